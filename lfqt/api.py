@@ -1,0 +1,296 @@
+"""Public API: input validation, the phase pipeline, scipy-style wrapper."""
+import math
+import time
+
+import numpy as np
+from numba import njit
+
+from . import dc, morton, radix
+from .mesh import Triangulation
+from .predicates import CCW_A, COUNTER_NAMES, N_COUNTERS, WORK_SIZE, orient2d
+
+# Exactness window (see predicates): after an exact power-of-two rescale every
+# nonzero |coordinate| must lie in [2**(MIN_ULP_EXP + 52), 2**MAX_EXP).
+MAX_EXP = 248
+MIN_ULP_EXP = -240
+MAX_SPAN = MAX_EXP - 1 - MIN_ULP_EXP - 52  # binades between the largest and smallest nonzero value
+FORMATS = {  # coord_bits, exp_bits, mant_bits, smallest normal exponent
+    np.dtype(np.float32): (32, 8, 23, -126),
+    np.dtype(np.float64): (64, 11, 52, -1022),
+}
+
+
+class DegenerateInputError(ValueError):
+    """Fewer than 3 distinct points, or all points collinear (scipy's Delaunay
+    raises QhullError in that case)."""
+
+
+def _coordinates(points):
+    """Validate (n, 2) input; return (x, y) as contiguous float32 or float64
+    arrays holding exactly the input values."""
+    arr = np.asarray(points)
+    if arr.dtype == object or arr.dtype.kind not in "fiu":
+        raise TypeError(f"points must be real numbers, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"points must have shape (n, 2), got {arr.shape}")
+    if arr.dtype.kind in "iu":
+        if arr.size and int(np.abs(arr.astype(np.float64)).max()) > 2 ** 53:
+            big = np.flatnonzero(np.abs(arr).max(axis=1) > 2 ** 53)
+            raise ValueError(f"{len(big)} integer rows exceed 2**53 and cannot be converted "
+                             f"to float64 exactly; the first is row {big[0]}")
+        arr = arr.astype(np.float64)
+    elif arr.dtype == np.float16:
+        arr = arr.astype(np.float32)
+    elif arr.dtype not in (np.float32, np.float64):
+        wide = arr
+        arr = arr.astype(np.float64)
+        if not np.array_equal(arr, wide, equal_nan=True):
+            raise ValueError(f"{wide.dtype} points are not exactly representable as float64")
+    finite = np.isfinite(arr).all(axis=1)
+    if not finite.all():
+        bad = np.flatnonzero(~finite)
+        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
+    return np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
+
+
+def _scale_exponent(x, y):
+    """Power of two that brings all coordinates into the exactness window, or
+    ValueError when their magnitudes span too many binades."""
+    if x.dtype == np.float32 or x.size == 0:
+        return 0  # float32's whole range already fits the window
+    mags = np.abs(np.concatenate((x, y)))
+    nz = mags[mags > 0]
+    if nz.size == 0:
+        return 0
+    top = math.frexp(float(nz.max()))[1] - 1
+    bottom = max(math.frexp(float(nz.min()))[1] - 1, -1022)
+    lo = MIN_ULP_EXP + 52 - bottom
+    hi = MAX_EXP - 1 - top
+    if lo > hi:
+        raise ValueError(
+            f"coordinate magnitudes span 2**{bottom} to 2**{top}, more than {MAX_SPAN} binades; "
+            "exact predicates cannot represent every product without overflow or underflow. "
+            "Translate or split the data so that the smallest nonzero magnitude is closer to "
+            "the largest.")
+    return min(max(0, lo), hi)
+
+
+def _exact_coordinates(points):
+    """float64 coordinates, rescaled by an exact power of two so that the
+    predicates are exact on them."""
+    x, y = _coordinates(points)
+    s = _scale_exponent(x, y)
+    return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
+
+
+def _index_dtype(n):
+    return np.int32 if n < 2 ** 31 - 2 else np.int64
+
+
+def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter="level"):
+    """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
+
+    points: array-like (n, 2) of float32, float64 or integers (exact in
+        float64).  float32 input gives 64-bit Morton keys, float64 input
+        128-bit keys; coordinates are never rounded.
+    threads: worker threads; the parallel split-list merge is not built yet,
+        so only 1 is accepted.
+    subdivision: "lfqt" (split at the highest differing Morton bit) or
+        "alternating" (Triangle's alternating median cuts, same merge and
+        predicates) for ablation.
+    counters: report predicate counts and undecided filter stages in stats.
+    filter: stage-1 error bound, "level" (fqDel 2.4, LFQT only) or
+        "constant" (Triangle's).
+    """
+    if subdivision not in ("lfqt", "alternating"):
+        raise ValueError(f"subdivision must be 'lfqt' or 'alternating', got {subdivision!r}")
+    if filter not in ("level", "constant"):
+        raise ValueError(f"filter must be 'level' or 'constant', got {filter!r}")
+    if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 1):
+        raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+    if threads not in (1, None):
+        raise NotImplementedError("the parallel split-list merge is not implemented yet; use threads=1")
+
+    t0 = time.perf_counter()
+    x, y = _coordinates(points)
+    n = x.shape[0]
+    scale_exp = _scale_exponent(x, y)
+    idx = np.zeros(1, dtype=_index_dtype(n))
+    wide = x.dtype == np.float64
+    coord_bits, exp_bits, mant_bits, emin = FORMATS[x.dtype]
+    fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
+    t_validate = time.perf_counter()
+
+    if wide:
+        khi, klo = morton.morton_keys64(x, y)
+        khi, klo, perm = radix.sort_keys128(khi, klo, idx)
+    else:
+        klo, perm = radix.sort_keys64(morton.morton_keys32(x, y), idx)
+        khi = klo[:0]
+    xs, ys = dc.gather_sorted(x, y, perm, 2.0 ** scale_exp)
+    t_sort = time.perf_counter()
+
+    ops = np.empty(max(2 * n - 1, 0), dtype=np.int64)
+    rep = np.empty(n, dtype=idx.dtype)
+    nops = dc.subdivide_lfqt(khi, klo, wide, 0, n, ops, 0, rep) if n else 0
+    del khi, klo
+    if subdivision == "alternating" and n:
+        ids = np.flatnonzero(rep == np.arange(n)).astype(np.int64)
+        nops = dc.subdivide_alternating(ids, xs, ys, ops)
+        del ids
+    t_subdivide = time.perf_counter()
+
+    nslots = max(2 * (n - 1), 0)
+    V = np.full(3 * nslots, dc.UNUSED, dtype=idx.dtype)
+    H = np.empty(3 * nslots, dtype=idx.dtype)
+    ghost_out = np.empty(n, dtype=idx.dtype)
+    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    work = np.empty(WORK_SIZE)
+    out_ext = np.empty((dc._STACK, 4), dtype=np.int64)
+    out_single = np.empty(dc._STACK, dtype=np.bool_)
+    level_filter = filter == "level" and subdivision == "lfqt"
+    left = dc.run_ops(ops, 0, nops, xs, ys, V, H, ghost_out, fmt, level_filter, cnt, work,
+                      out_ext, out_single) if n else 0
+    del ops
+    t_merge = time.perf_counter()
+
+    simplices, neighbors = dc.compact(V, H, perm, idx)
+    duplicate_of = dc.duplicates_to_input(rep, perm, idx)
+    n_distinct = int(n - np.count_nonzero(rep != np.arange(n))) if n else 0
+    degenerate, reason = False, ""
+    if len(simplices):
+        hull = dc.hull_loop(V, H, ghost_out[out_ext[0, dc.XMIN]], perm, idx)
+    else:
+        degenerate = True
+        if left == 0:
+            hull, reason = np.empty(0, dtype=idx.dtype), "no points"
+        elif out_single[0]:
+            hull, reason = perm[[out_ext[0, dc.XMIN]]], "fewer than 3 distinct points"
+        else:
+            hull = perm[[out_ext[0, dc.XMIN], out_ext[0, dc.XMAX]]]
+            reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
+    t_output = time.perf_counter()
+
+    stats = {
+        "seconds": {"validate": t_validate - t0, "sort": t_sort - t_validate,
+                    "subdivide": t_subdivide - t_sort, "merge": t_merge - t_subdivide,
+                    "output": t_output - t_merge, "total": t_output - t0},
+        "n_distinct": n_distinct,
+        "key_bits": 128 if wide else 64,
+        "scale_exponent": scale_exp,
+        "subdivision": subdivision,
+        "filter": "level" if level_filter else "constant",
+        "threads": 1,
+    }
+    if counters:
+        stats["predicates"] = dict(zip(COUNTER_NAMES, map(int, cnt)))
+    return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
+                         duplicate_of=duplicate_of, stats=stats, degenerate=degenerate,
+                         reason=reason)
+
+
+@njit(cache=True)
+def _locate(xs, ys, simplices, neighbors, qx, qy, start):
+    """Visibility walk with exact orientation; -1 outside the hull."""
+    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    m = simplices.shape[0]
+    out = np.empty(qx.shape[0], dtype=np.int64)
+    t = start
+    for k in range(qx.shape[0]):
+        if t < 0:
+            t = start
+        px = qx[k]
+        py = qy[k]
+        found = -1
+        for _ in range(4 * m + 4):
+            moved = False
+            for j in range(3):
+                i = (j + k) % 3  # rotate the first edge tried so the walk cannot cycle
+                a = simplices[t, (i + 1) % 3]
+                b = simplices[t, (i + 2) % 3]
+                if orient2d(xs[a], ys[a], xs[b], ys[b], px, py, CCW_A, cnt) < 0.0:
+                    nb = neighbors[t, i]
+                    if nb < 0:
+                        t = -1
+                    else:
+                        t = nb
+                    moved = True
+                    break
+            if not moved:
+                found = t
+                break
+            if t < 0:
+                break
+        out[k] = found
+        if found >= 0:
+            t = found
+    return out
+
+
+class Delaunay:
+    """Drop-in for the common use of ``scipy.spatial.Delaunay`` in 2D.
+
+    Raises :class:`DegenerateInputError` where scipy raises QhullError
+    (fewer than 3 distinct points or all collinear).  ``coplanar`` lists the
+    duplicate rows that are not vertices, as (row, simplex, vertex) like
+    scipy's.
+    """
+
+    def __init__(self, points, **kwargs):
+        self._tri = triangulate(points, **kwargs)
+        if self._tri.degenerate:
+            raise DegenerateInputError(f"cannot triangulate: {self._tri.reason}")
+        self.points = np.asarray(points, dtype=np.float64)
+        self.simplices = self._tri.simplices
+        self.neighbors = self._tri.neighbors
+        self.ndim = 2
+        self.npoints = len(self.points)
+        self.nsimplex = len(self.simplices)
+        self.stats = self._tri.stats
+        self._xs, self._ys = _exact_coordinates(points)
+        self._scale = 2.0 ** _scale_exponent(*_coordinates(points))
+        self._vnv = None
+
+    @property
+    def triangulation(self):
+        return self._tri
+
+    @property
+    def convex_hull(self):
+        h = self._tri.hull
+        return np.stack((h, np.roll(h, -1)), axis=1)
+
+    @property
+    def coplanar(self):
+        dup = self._tri.duplicate_of
+        rows = np.flatnonzero(dup != np.arange(len(dup)))
+        if len(rows) == 0:
+            return np.empty((0, 3), dtype=np.int32)
+        owner = np.empty(self.npoints, dtype=np.int64)
+        owner[self.simplices.ravel()] = np.repeat(np.arange(self.nsimplex), 3)
+        return np.stack((rows, owner[dup[rows]], dup[rows]), axis=1).astype(np.int32)
+
+    def find_simplex(self, xi):
+        q = np.asarray(xi, dtype=np.float64)
+        shape = q.shape[:-1]
+        q = q.reshape(-1, 2)
+        if not np.isfinite(q).all():
+            raise ValueError("query points must be finite")
+        qx = np.ascontiguousarray(q[:, 0]) * self._scale
+        qy = np.ascontiguousarray(q[:, 1]) * self._scale
+        found = _locate(self._xs, self._ys, self.simplices.astype(np.int64),
+                        self.neighbors.astype(np.int64), qx, qy, 0)
+        return found.astype(np.int32).reshape(shape)
+
+    @property
+    def vertex_neighbor_vertices(self):
+        if self._vnv is None:
+            s = self.simplices.astype(np.int64)
+            a = np.concatenate((s[:, 0], s[:, 1], s[:, 2], s[:, 1], s[:, 2], s[:, 0]))
+            b = np.concatenate((s[:, 1], s[:, 2], s[:, 0], s[:, 0], s[:, 1], s[:, 2]))
+            key = np.unique(a * self.npoints + b)
+            src, dst = key // self.npoints, key % self.npoints
+            indptr = np.zeros(self.npoints + 1, dtype=np.int32)
+            np.cumsum(np.bincount(src, minlength=self.npoints), out=indptr[1:])
+            self._vnv = (indptr, dst.astype(np.int32))
+        return self._vnv

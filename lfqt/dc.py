@@ -1,0 +1,559 @@
+"""Dwyer-style divide and conquer on the LFQT (fqDel 3.2, 3.3).
+
+Data layout (Triangle's, in flat arrays): triangle ``t`` owns the half-edges
+``3t, 3t+1, 3t+2``; half-edge ``e`` runs from ``V[e]`` to ``V[next(e)]`` and
+``H[e]`` is its twin.  Vertex ids are positions in Morton order.  The convex
+hull is wrapped in *ghost* triangles ``(a, b, GHOST)`` (hull edge ``b -> a``),
+always stored with the ghost vertex in slot 2, so every partition is a closed
+surface and a Guibas–Stolfi merge is nothing but:
+
+* a splice of the two ghost rings along the lower common tangent (two new
+  ghosts ``A`` above it and ``B`` below it), and
+* flips: deleting a non-Delaunay edge of either side flips it with its ghost,
+  and adding a cross edge flips ``A`` with the neighbouring ghost.
+
+The merge at split position ``p`` owns triangle slots ``2(p-1)`` and
+``2(p-1)+1``, so slot ids depend only on the input, never on scheduling.
+
+Phase 2 (subdivide) writes the quad-tree as a post-order list of ``ops``:
+``-(v+1)`` pushes the single vertex ``v``; ``(p << 8) | code`` merges the two
+partitions on top of the stack.  ``code < 128`` is the Morton bit of an LFQT
+split (odd: x-split); ``ALT_X``/``ALT_Y`` are Triangle-style alternating cuts.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .predicates import CCW_A, ICC_A, incircle, level_bounds, orient2d
+
+GHOST = -1
+UNUSED = -2
+ALT_X = 128
+ALT_Y = 129
+XMAX, XMIN, YMAX, YMIN = 0, 1, 2, 3
+_STACK = 160
+_ONE = np.uint64(1)
+
+
+# --------------------------------------------------------------------------
+# Phase 2: subdivision
+
+
+@njit(cache=True, inline="always")
+def _bsr(x):
+    """Index of the highest set bit of a non-zero uint64."""
+    b = 0
+    if x >> np.uint64(32):
+        x >>= np.uint64(32)
+        b += 32
+    if x >> np.uint64(16):
+        x >>= np.uint64(16)
+        b += 16
+    if x >> np.uint64(8):
+        x >>= np.uint64(8)
+        b += 8
+    if x >> np.uint64(4):
+        x >>= np.uint64(4)
+        b += 4
+    if x >> np.uint64(2):
+        x >>= np.uint64(2)
+        b += 2
+    if x >> np.uint64(1):
+        b += 1
+    return b
+
+
+@njit(cache=True, inline="always")
+def _diff_bit(khi, klo, wide, i, j):
+    """Highest bit in which keys i and j differ, or -1 when equal."""
+    if wide:
+        d = khi[i] ^ khi[j]
+        if d != 0:
+            return 64 + _bsr(d)
+    d = klo[i] ^ klo[j]
+    if d != 0:
+        return _bsr(d)
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _has_bit(khi, klo, wide, i, bit):
+    if bit >= 64:
+        return (khi[i] >> np.uint64(bit - 64)) & _ONE
+    return (klo[i] >> np.uint64(bit)) & _ONE
+
+
+@njit(cache=True)
+def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
+    """Algorithm 1 of fqDel without recursion: append the post-order ops of
+    the quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
+    Runs of equal keys become one vertex; ``rep[i]`` is set to the sorted
+    position that represents position i.  Returns the new op count."""
+    s_lo = np.empty(_STACK, dtype=np.int64)
+    s_hi = np.empty(_STACK, dtype=np.int64)
+    s_split = np.empty(_STACK, dtype=np.int64)
+    s_bit = np.empty(_STACK, dtype=np.int64)
+    s_state = np.empty(_STACK, dtype=np.int64)
+    top = 0
+    s_lo[0] = lo
+    s_hi[0] = hi
+    s_state[0] = 0
+    while top >= 0:
+        a = s_lo[top]
+        b = s_hi[top]
+        st = s_state[top]
+        if st == 0:
+            bit = _diff_bit(khi, klo, wide, a, b - 1)
+            if bit < 0:
+                for i in range(a, b):
+                    rep[i] = a
+                ops[nops] = -(a + 1)
+                nops += 1
+                top -= 1
+                continue
+            left = a
+            right = b - 1
+            while right - left > 1:
+                mid = (left + right) >> 1
+                if _has_bit(khi, klo, wide, mid, bit):
+                    right = mid
+                else:
+                    left = mid
+            s_split[top] = right
+            s_bit[top] = bit
+            s_state[top] = 1
+            top += 1
+            s_lo[top] = a
+            s_hi[top] = right
+            s_state[top] = 0
+        elif st == 1:
+            s_state[top] = 2
+            top += 1
+            s_lo[top] = s_split[top - 1]
+            s_hi[top] = b
+            s_state[top] = 0
+        else:
+            ops[nops] = (s_split[top] << 8) | s_bit[top]
+            nops += 1
+            top -= 1
+    return nops
+
+
+@njit(cache=True, inline="always")
+def _less(xs, ys, axis, a, b):
+    """Total order of distinct points: (x, y) for axis 0, (y, -x) for axis 1."""
+    if axis == 0:
+        return xs[a] < xs[b] or (xs[a] == xs[b] and ys[a] < ys[b])
+    return ys[a] < ys[b] or (ys[a] == ys[b] and xs[a] > xs[b])
+
+
+@njit(cache=True)
+def _select(ids, lo, hi, k, xs, ys, axis):
+    """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element)."""
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        # median of three as pivot, moved to lo
+        a, b, c = ids[lo], ids[mid], ids[hi - 1]
+        if _less(xs, ys, axis, b, a):
+            a, b = b, a
+        if _less(xs, ys, axis, c, b):
+            b, c = c, b
+            if _less(xs, ys, axis, b, a):
+                a, b = b, a
+        pivot = b
+        i = lo
+        j = hi - 1
+        while i <= j:
+            while _less(xs, ys, axis, ids[i], pivot):
+                i += 1
+            while _less(xs, ys, axis, pivot, ids[j]):
+                j -= 1
+            if i <= j:
+                t = ids[i]
+                ids[i] = ids[j]
+                ids[j] = t
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j + 1
+        elif k >= i:
+            lo = i
+        else:
+            return
+
+
+@njit(cache=True)
+def subdivide_alternating(ids, xs, ys, ops):
+    """Triangle's alternating median cuts over distinct vertices ``ids``:
+    fill ``ops`` in post-order and return their count."""
+    n = ids.shape[0]
+    _select(ids, 0, n, n >> 1, xs, ys, 0)
+    s_lo = np.empty(_STACK, dtype=np.int64)
+    s_hi = np.empty(_STACK, dtype=np.int64)
+    s_axis = np.empty(_STACK, dtype=np.int64)
+    s_state = np.empty(_STACK, dtype=np.int64)
+    top = 0
+    s_lo[0] = 0
+    s_hi[0] = n
+    s_axis[0] = 0
+    s_state[0] = 0
+    nops = 0
+    while top >= 0:
+        a = s_lo[top]
+        b = s_hi[top]
+        st = s_state[top]
+        if b - a == 1:
+            ops[nops] = -(ids[a] + 1)
+            nops += 1
+            top -= 1
+            continue
+        mid = a + ((b - a) >> 1)
+        child_axis = 1 - s_axis[top]
+        if st == 0:
+            # Each half is re-cut along the other axis before it is divided.
+            _select(ids, a, mid, a + ((mid - a) >> 1), xs, ys, child_axis)
+            _select(ids, mid, b, mid + ((b - mid) >> 1), xs, ys, child_axis)
+            s_state[top] = 1
+            top += 1
+            s_lo[top], s_hi[top], s_axis[top], s_state[top] = a, mid, child_axis, 0
+        elif st == 1:
+            s_state[top] = 2
+            top += 1
+            s_lo[top], s_hi[top], s_axis[top], s_state[top] = mid, b, child_axis, 0
+        else:
+            ops[nops] = (mid << 8) | (ALT_X + s_axis[top])
+            nops += 1
+            top -= 1
+    return nops
+
+
+# --------------------------------------------------------------------------
+# Phase 3: merge
+
+
+@njit(cache=True, inline="always")
+def _next(e):
+    return e - 2 if e % 3 == 2 else e + 1
+
+
+@njit(cache=True, inline="always")
+def _prev(e):
+    return e + 2 if e % 3 == 0 else e - 1
+
+
+@njit(cache=True, inline="always")
+def _link(H, a, b):
+    H[a] = b
+    H[b] = a
+
+
+@njit(cache=True, inline="always")
+def _set(V, t, a, b, c):
+    V[3 * t] = a
+    V[3 * t + 1] = b
+    V[3 * t + 2] = c
+
+
+@njit(cache=True, inline="always")
+def _greater_xy(xs, ys, a, b):
+    return xs[a] > xs[b] or (xs[a] == xs[b] and ys[a] > ys[b])
+
+
+@njit(cache=True, inline="always")
+def _greater_yx(xs, ys, a, b):
+    return ys[a] > ys[b] or (ys[a] == ys[b] and xs[a] < xs[b])
+
+
+@njit(cache=True, inline="always")
+def _binade(v, scale_exp, emin):
+    if v == 0.0:
+        return emin
+    e = math.frexp(v)[1] - 1 - scale_exp
+    return e if e > emin else emin
+
+
+@njit(cache=True)
+def merge(ext, top, single, slot, code, xs, ys, V, H, ghost_out, fmt,
+          level_filter, counters, work):
+    """Merge the partitions ext[top-1] (left/lower) and ext[top] (right/upper)
+    into ext[top-1].  ``fmt`` = (coord_bits, exp_bits, mant_bits, emin,
+    scale_exp) of the input format, for the level-dependent bounds."""
+    lt = top - 1
+    rt = top
+    if code >= ALT_X:
+        x_split = code == ALT_X
+        ccwb = CCW_A
+        iccb = ICC_A
+    else:
+        x_split = (code & 1) == 1
+        if level_filter:
+            probe = ext[lt, XMIN]
+            ex = _binade(xs[probe], fmt[4], fmt[3])
+            ey = _binade(ys[probe], fmt[4], fmt[3])
+            ccwb, iccb = level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
+        else:
+            ccwb = CCW_A
+            iccb = ICC_A
+    if x_split:
+        l = ext[lt, XMAX]
+        r = ext[rt, XMIN]
+    else:
+        l = ext[lt, YMAX]
+        r = ext[rt, YMIN]
+    l_single = single[lt]
+    r_single = single[rt]
+
+    # Lower common tangent.  gl = (l, cw(l), GHOST), gr = (ccw(r), r, GHOST).
+    gl = -1
+    gr = -1
+    if not l_single:
+        gl = H[3 * ghost_out[l] + 1] // 3
+    if not r_single:
+        gr = ghost_out[r]
+    while True:
+        if not l_single:
+            lp = V[3 * gl + 1]
+            if orient2d(xs[l], ys[l], xs[r], ys[r], xs[lp], ys[lp], ccwb, counters) < 0.0:
+                gl = H[3 * gl + 1] // 3
+                l = lp
+                continue
+        if not r_single:
+            rp = V[3 * gr]
+            if orient2d(xs[l], ys[l], xs[r], ys[r], xs[rp], ys[rp], ccwb, counters) < 0.0:
+                gr = H[3 * gr + 2] // 3
+                r = rp
+                continue
+        break
+
+    # Splice the ghost rings: A = (l, r, G) above the tangent, B below.
+    A = 2 * (slot - 1)
+    B = A + 1
+    _set(V, A, l, r, GHOST)
+    _set(V, B, r, l, GHOST)
+    _link(H, 3 * A, 3 * B)
+    if l_single:
+        _link(H, 3 * A + 2, 3 * B + 1)
+    else:
+        l_out = H[3 * gl + 2]
+        _link(H, 3 * A + 2, l_out)
+        _link(H, 3 * B + 1, 3 * gl + 2)
+    if r_single:
+        _link(H, 3 * A + 1, 3 * B + 2)
+    else:
+        r_in = H[3 * gr + 1]
+        _link(H, 3 * A + 1, r_in)
+        _link(H, 3 * B + 2, 3 * gr + 1)
+    l_bottom = l
+
+    # Rising bubble.
+    while True:
+        xl = xs[l]
+        yl = ys[l]
+        xr = xs[r]
+        yr = ys[r]
+        GL = H[3 * A + 2] // 3
+        lvalid = False
+        if GL != B:
+            lc = V[3 * GL]
+            lvalid = orient2d(xl, yl, xr, yr, xs[lc], ys[lc], ccwb, counters) > 0.0
+            while lvalid:
+                e = H[3 * GL]
+                x = V[_prev(e)]
+                if x == GHOST:
+                    break
+                if incircle(xl, yl, xr, yr, xs[lc], ys[lc], xs[x], ys[x],
+                            iccb, counters, work) <= 0.0:
+                    break
+                # (l, lc, x) is not Delaunay: flip l-lc with its ghost.
+                T = e // 3
+                t_lc_x = H[_next(e)]
+                t_x_l = H[_prev(e)]
+                g1 = H[3 * GL + 1]
+                g2 = H[3 * GL + 2]
+                _set(V, T, x, l, GHOST)
+                _set(V, GL, lc, x, GHOST)
+                _link(H, 3 * T, t_x_l)
+                _link(H, 3 * T + 1, g1)
+                _link(H, 3 * T + 2, 3 * GL + 1)
+                _link(H, 3 * GL, t_lc_x)
+                _link(H, 3 * GL + 2, g2)
+                GL = T
+                lc = x
+                lvalid = orient2d(xl, yl, xr, yr, xs[lc], ys[lc], ccwb, counters) > 0.0
+        GR = H[3 * A + 1] // 3
+        rvalid = False
+        if GR != B:
+            rc = V[3 * GR + 1]
+            rvalid = orient2d(xl, yl, xr, yr, xs[rc], ys[rc], ccwb, counters) > 0.0
+            while rvalid:
+                e = H[3 * GR]
+                x = V[_prev(e)]
+                if x == GHOST:
+                    break
+                if incircle(xl, yl, xr, yr, xs[rc], ys[rc], xs[x], ys[x],
+                            iccb, counters, work) <= 0.0:
+                    break
+                T = e // 3
+                t_r_x = H[_next(e)]
+                t_x_rc = H[_prev(e)]
+                g1 = H[3 * GR + 1]
+                g2 = H[3 * GR + 2]
+                _set(V, GR, r, x, GHOST)
+                _set(V, T, x, rc, GHOST)
+                _link(H, 3 * GR, t_r_x)
+                _link(H, 3 * GR + 1, 3 * T + 2)
+                _link(H, 3 * GR + 2, g2)
+                _link(H, 3 * T, t_x_rc)
+                _link(H, 3 * T + 1, g1)
+                rc = x
+                rvalid = orient2d(xl, yl, xr, yr, xs[rc], ys[rc], ccwb, counters) > 0.0
+        if not lvalid and not rvalid:
+            break
+        if not lvalid or (rvalid and incircle(xs[lc], ys[lc], xl, yl, xr, yr, xs[rc], ys[rc],
+                                               iccb, counters, work) > 0.0):
+            # cross edge l-rc: A and GR become (l, r, rc) and the new A
+            a0 = H[3 * A]
+            a2 = H[3 * A + 2]
+            g0 = H[3 * GR]
+            g1 = H[3 * GR + 1]
+            _set(V, A, l, r, rc)
+            _set(V, GR, l, rc, GHOST)
+            _link(H, 3 * A, a0)
+            _link(H, 3 * A + 1, g0)
+            _link(H, 3 * A + 2, 3 * GR)
+            _link(H, 3 * GR + 1, g1)
+            _link(H, 3 * GR + 2, a2)
+            A = GR
+            r = rc
+        else:
+            # cross edge lc-r: A and GL become (l, r, lc) and the new A
+            a0 = H[3 * A]
+            a1 = H[3 * A + 1]
+            g0 = H[3 * GL]
+            g2 = H[3 * GL + 2]
+            _set(V, A, l, r, lc)
+            _set(V, GL, lc, r, GHOST)
+            _link(H, 3 * A, a0)
+            _link(H, 3 * A + 1, 3 * GL)
+            _link(H, 3 * A + 2, g0)
+            _link(H, 3 * GL + 1, a1)
+            _link(H, 3 * GL + 2, g2)
+            A = GL
+            l = lc
+    ghost_out[l_bottom] = B
+    ghost_out[r] = A
+
+    # Extremes of the union.
+    if x_split:
+        ext[lt, XMAX] = ext[rt, XMAX]
+        if _greater_yx(xs, ys, ext[rt, YMAX], ext[lt, YMAX]):
+            ext[lt, YMAX] = ext[rt, YMAX]
+        if _greater_yx(xs, ys, ext[lt, YMIN], ext[rt, YMIN]):
+            ext[lt, YMIN] = ext[rt, YMIN]
+    else:
+        ext[lt, YMAX] = ext[rt, YMAX]
+        if _greater_xy(xs, ys, ext[rt, XMAX], ext[lt, XMAX]):
+            ext[lt, XMAX] = ext[rt, XMAX]
+        if _greater_xy(xs, ys, ext[lt, XMIN], ext[rt, XMIN]):
+            ext[lt, XMIN] = ext[rt, XMIN]
+    single[lt] = False
+
+
+@njit(cache=True)
+def run_ops(ops, op_lo, op_hi, xs, ys, V, H, ghost_out, fmt, level_filter,
+            counters, work, out_ext, out_single):
+    """Execute ops[op_lo:op_hi] on a partition stack; the partitions left on
+    the stack (one for a whole subtree) are written to out_ext/out_single.
+    Returns how many were left."""
+    ext = np.empty((_STACK, 4), dtype=np.int64)
+    single = np.empty(_STACK, dtype=np.bool_)
+    top = -1
+    for k in range(op_lo, op_hi):
+        op = ops[k]
+        if op < 0:
+            v = -op - 1
+            top += 1
+            ext[top, 0] = v
+            ext[top, 1] = v
+            ext[top, 2] = v
+            ext[top, 3] = v
+            single[top] = True
+        else:
+            merge(ext, top, single, op >> 8, op & 255, xs, ys, V, H, ghost_out,
+                  fmt, level_filter, counters, work)
+            top -= 1
+    for i in range(top + 1):
+        for j in range(4):
+            out_ext[i, j] = ext[i, j]
+        out_single[i] = single[i]
+    return top + 1
+
+
+# --------------------------------------------------------------------------
+# Output
+
+
+@njit(cache=True)
+def compact(V, H, perm, index_sample):
+    """Real triangles as (simplices, neighbors) in input indices; neighbor i
+    is opposite vertex i, -1 on the hull."""
+    nslots = V.shape[0] // 3
+    newid = np.full(nslots, -1, dtype=index_sample.dtype)
+    m = 0
+    for t in range(nslots):
+        if V[3 * t] >= 0 and V[3 * t + 1] >= 0 and V[3 * t + 2] >= 0:
+            newid[t] = m
+            m += 1
+    simplices = np.empty((m, 3), dtype=index_sample.dtype)
+    neighbors = np.empty((m, 3), dtype=index_sample.dtype)
+    for t in range(nslots):
+        k = newid[t]
+        if k < 0:
+            continue
+        for i in range(3):
+            simplices[k, i] = perm[V[3 * t + i]]
+            # edge opposite vertex i starts at vertex i+1
+            neighbors[k, i] = newid[H[3 * t + (i + 1) % 3] // 3]
+    return simplices, neighbors
+
+
+@njit(cache=True)
+def hull_loop(V, H, start_ghost, perm, index_sample):
+    """Counter-clockwise hull vertices (input indices) by walking the ghost
+    ring from ``start_ghost``."""
+    count = 0
+    g = start_ghost
+    while True:
+        count += 1
+        g = H[3 * g + 2] // 3
+        if g == start_ghost:
+            break
+    out = np.empty(count, dtype=index_sample.dtype)
+    g = start_ghost
+    for i in range(count):
+        out[i] = perm[V[3 * g + 1]]
+        g = H[3 * g + 2] // 3
+    return out
+
+
+@njit(cache=True)
+def gather_sorted(x, y, perm, scale):
+    """Coordinates in Morton order as float64, times an exact power of two."""
+    n = perm.shape[0]
+    xs = np.empty(n, dtype=np.float64)
+    ys = np.empty(n, dtype=np.float64)
+    for i in range(n):
+        j = perm[i]
+        xs[i] = np.float64(x[j]) * scale
+        ys[i] = np.float64(y[j]) * scale
+    return xs, ys
+
+
+@njit(cache=True)
+def duplicates_to_input(rep, perm, index_sample):
+    n = perm.shape[0]
+    out = np.empty(n, dtype=index_sample.dtype)
+    for i in range(n):
+        out[perm[i]] = perm[rep[i]]
+    return out

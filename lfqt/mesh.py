@@ -1,0 +1,280 @@
+"""Result objects and exact validation of triangulations.
+
+``verify`` proves a 2D mesh is *the* Delaunay triangulation of its points with
+exact predicates only:
+
+* every triangle is strictly counter-clockwise;
+* every directed edge occurs once, neighbours are symmetric, and an edge
+  without neighbour has no reverse: the boundary of the triangle chain is the
+  set of hull edges;
+* the hull edges form one loop that only turns left (or goes straight on) and
+  winds exactly once, i.e. a convex polygon.  Then, by a degree argument, the
+  positively oriented triangles cover every point inside it exactly once;
+* every interior edge is locally Delaunay (exact in-circle <= 0), which on a
+  triangulation of the convex hull means globally Delaunay;
+* every distinct input point is a vertex, and no duplicate is.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit
+
+from .predicates import CCW_A, ICC_A, N_COUNTERS, WORK_SIZE, incircle, orient2d
+
+
+@dataclass
+class Triangulation:
+    """A Delaunay triangulation in flat arrays (scipy's conventions).
+
+    points: the input as given.  simplices: (m, 3) counter-clockwise rows of
+    input indices.  neighbors: (m, 3), neighbour i opposite vertex i, -1 on
+    the hull.  hull: boundary vertex loop, counter-clockwise.  duplicate_of:
+    per input row, the row that represents it.  degenerate: True when there
+    are fewer than 3 distinct points or all are collinear (then simplices is
+    empty and hull holds the extreme points); reason says which.
+    """
+    points: np.ndarray
+    simplices: np.ndarray
+    neighbors: np.ndarray
+    hull: np.ndarray
+    duplicate_of: np.ndarray
+    stats: dict = field(default_factory=dict)
+    degenerate: bool = False
+    reason: str = ""
+
+    @property
+    def n_distinct(self):
+        return int(np.count_nonzero(self.duplicate_of == np.arange(len(self.duplicate_of))))
+
+    def __repr__(self):
+        return (f"Triangulation(points={len(self.points)}, simplices={len(self.simplices)}, "
+                f"hull={len(self.hull)}, degenerate={self.degenerate})")
+
+
+@dataclass
+class VerifyReport:
+    """Outcome of :func:`verify`; ``ok`` is the conjunction of the checks.
+    Each failing check puts a sentence in ``problems``."""
+    ok: bool
+    checks: dict
+    problems: list
+    counts: dict
+
+    def raise_if_invalid(self):
+        if not self.ok:
+            raise AssertionError("invalid triangulation: " + "; ".join(self.problems))
+
+    def __bool__(self):
+        return self.ok
+
+
+@njit(cache=True)
+def _lower_half(dx_sign, dy_sign):
+    """Direction angle in [pi, 2pi): strictly below, or pointing left."""
+    return dy_sign < 0 or (dy_sign == 0 and dx_sign < 0)
+
+
+@njit(cache=True)
+def _cmp(a, b):
+    return 1 if a > b else (-1 if a < b else 0)
+
+
+@njit(cache=True)
+def _check_mesh(xs, ys, simplices, neighbors, n):
+    """Returns (bad_orientation, bad_neighbors, duplicate_directed, boundary_with_reverse,
+    boundary_not_single_loop, reflex_turns, winding, not_delaunay, first_bad_triangle,
+    n_boundary, loop_start)."""
+    m = simplices.shape[0]
+    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    work = np.empty(WORK_SIZE)
+    bad_orient = 0
+    first_bad = -1
+    for t in range(m):
+        a, b, c = simplices[t, 0], simplices[t, 1], simplices[t, 2]
+        if orient2d(xs[a], ys[a], xs[b], ys[b], xs[c], ys[c], CCW_A, cnt) <= 0.0:
+            bad_orient += 1
+            if first_bad < 0:
+                first_bad = t
+    bad_nb = 0
+    keys = np.empty(3 * m, dtype=np.int64)
+    for t in range(m):
+        for i in range(3):
+            a = simplices[t, (i + 1) % 3]
+            b = simplices[t, (i + 2) % 3]
+            keys[3 * t + i] = a * n + b
+            u = neighbors[t, i]
+            if u >= 0:
+                ok = False
+                if u < m:
+                    for j in range(3):
+                        if (simplices[u, (j + 1) % 3] == b and simplices[u, (j + 2) % 3] == a
+                                and neighbors[u, j] == t):
+                            ok = True
+                if not ok:
+                    bad_nb += 1
+                    if first_bad < 0:
+                        first_bad = t
+    skeys = np.sort(keys)
+    dup_directed = 0
+    for k in range(1, 3 * m):
+        if skeys[k] == skeys[k - 1]:
+            dup_directed += 1
+    # Boundary: edges without neighbour; their reverse must not exist.
+    out_next = np.full(n, -1, dtype=np.int64)
+    boundary_rev = 0
+    n_boundary = 0
+    loop_fail = 0
+    start = -1
+    for t in range(m):
+        for i in range(3):
+            if neighbors[t, i] < 0:
+                a = simplices[t, (i + 1) % 3]
+                b = simplices[t, (i + 2) % 3]
+                rk = b * n + a
+                pos = np.searchsorted(skeys, rk)
+                if pos < 3 * m and skeys[pos] == rk:
+                    boundary_rev += 1
+                if out_next[a] >= 0:
+                    loop_fail += 1
+                out_next[a] = b
+                n_boundary += 1
+                start = a
+    reflex = 0
+    winding = 0
+    if n_boundary > 0 and loop_fail == 0:
+        steps = 0
+        a = start
+        while True:
+            b = out_next[a]
+            if b < 0:
+                loop_fail += 1
+                break
+            c = out_next[b]
+            if c < 0:
+                loop_fail += 1
+                break
+            o = orient2d(xs[a], ys[a], xs[b], ys[b], xs[c], ys[c], CCW_A, cnt)
+            if o < 0.0:
+                reflex += 1
+            elif o == 0.0:
+                if (_cmp(xs[b], xs[a]) != _cmp(xs[c], xs[b])
+                        or _cmp(ys[b], ys[a]) != _cmp(ys[c], ys[b])):
+                    reflex += 1
+            if (_lower_half(_cmp(xs[b], xs[a]), _cmp(ys[b], ys[a]))
+                    and not _lower_half(_cmp(xs[c], xs[b]), _cmp(ys[c], ys[b]))):
+                winding += 1
+            steps += 1
+            a = b
+            if a == start or steps > n_boundary:
+                break
+        if steps != n_boundary or a != start:
+            loop_fail += 1
+    # Locally Delaunay interior edges, each checked once.
+    not_delaunay = 0
+    for t in range(m):
+        for i in range(3):
+            u = neighbors[t, i]
+            if u > t and u < m:
+                a = simplices[t, (i + 1) % 3]
+                b = simplices[t, (i + 2) % 3]
+                d = -1
+                for j in range(3):
+                    v = simplices[u, j]
+                    if v != a and v != b:
+                        d = v
+                c = simplices[t, i]
+                if d >= 0 and incircle(xs[a], ys[a], xs[b], ys[b], xs[c], ys[c], xs[d], ys[d],
+                                       ICC_A, cnt, work) > 0.0:
+                    not_delaunay += 1
+                    if first_bad < 0:
+                        first_bad = t
+    return (bad_orient, bad_nb, dup_directed, boundary_rev, loop_fail, reflex, winding,
+            not_delaunay, first_bad, n_boundary, start, out_next)
+
+
+@njit(cache=True)
+def _all_collinear(xs, ys, ids, a, b):
+    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    for k in range(ids.shape[0]):
+        i = ids[k]
+        if orient2d(xs[a], ys[a], xs[b], ys[b], xs[i], ys[i], CCW_A, cnt) != 0.0:
+            return False
+    return True
+
+
+def _problem(problems, checks, name, bad, sentence):
+    checks[name] = not bad
+    if bad:
+        problems.append(sentence)
+
+
+def verify(points, tri):
+    """Exactly check that ``tri`` is the Delaunay triangulation of ``points``.
+
+    Works for any :class:`Triangulation` (or object with ``simplices``,
+    ``neighbors``, ``hull`` and optionally ``duplicate_of``), whoever built
+    it.  Returns a :class:`VerifyReport`.
+    """
+    from .api import _exact_coordinates
+    xs, ys = _exact_coordinates(points)
+    n = xs.shape[0]
+    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64)
+    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64)
+    hull = np.asarray(tri.hull, dtype=np.int64)
+    dup = getattr(tri, "duplicate_of", None)
+    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
+    problems, checks = [], {}
+    counts = {"triangles": int(len(simplices)), "points": int(n)}
+
+    _problem(problems, checks, "indices", (simplices.size and (simplices.min() < 0 or simplices.max() >= n))
+             or len(dup) != n or (n and (dup.min() < 0 or dup.max() >= n)),
+             "indices out of range")
+    if not checks["indices"]:
+        return VerifyReport(False, checks, problems, counts)
+    rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(xs[dup] == xs)) and bool(np.all(ys[dup] == ys))
+    _problem(problems, checks, "duplicates", not rep_ok,
+             "duplicate_of maps a row to a different point or to a non-representative")
+    distinct = np.flatnonzero(dup == np.arange(n))
+    used = np.zeros(n, dtype=bool)
+    used[simplices.ravel()] = True
+
+    if len(simplices) == 0:
+        degenerate = bool(getattr(tri, "degenerate", True))
+        _problem(problems, checks, "flag", not degenerate, "no triangles but not flagged degenerate")
+        if len(distinct):
+            order = np.lexsort((ys[distinct], xs[distinct]))
+            lo, hi = distinct[order[0]], distinct[order[-1]]
+            collinear = len(distinct) < 3 or _all_collinear(xs, ys, distinct, lo, hi)
+            _problem(problems, checks, "collinear", not collinear,
+                     "no triangles although the distinct points are not collinear")
+            expect = {int(lo), int(hi)}
+            _problem(problems, checks, "hull", set(map(int, hull)) != expect or len(hull) != len(expect),
+                     f"hull of a degenerate set must be its extreme points {sorted(expect)}")
+        return VerifyReport(not problems, checks, problems, counts)
+
+    (bad_orient, bad_nb, dup_directed, boundary_rev, loop_fail, reflex, winding, not_delaunay,
+     first_bad, n_boundary, start, out_next) = _check_mesh(xs, ys, simplices, neighbors, n)
+    counts.update(bad_orientation=int(bad_orient), bad_neighbors=int(bad_nb),
+                  duplicate_directed_edges=int(dup_directed), boundary_edges=int(n_boundary),
+                  reflex_hull_turns=int(reflex), hull_winding=int(winding),
+                  non_delaunay_edges=int(not_delaunay), first_bad_triangle=int(first_bad))
+    _problem(problems, checks, "orientation", bad_orient,
+             f"{bad_orient} triangles are not strictly counter-clockwise")
+    _problem(problems, checks, "manifold", bad_nb or dup_directed or boundary_rev,
+             f"edge structure broken: {bad_nb} asymmetric neighbours, {dup_directed} repeated "
+             f"directed edges, {boundary_rev} hull edges with a reverse")
+    _problem(problems, checks, "convex_boundary", loop_fail or reflex or winding != 1,
+             f"boundary is not one convex loop ({loop_fail} loop faults, {reflex} reflex turns, "
+             f"winding {winding})")
+    checks["coverage"] = checks["orientation"] and checks["manifold"] and checks["convex_boundary"]
+    _problem(problems, checks, "delaunay", not_delaunay, f"{not_delaunay} interior edges are not locally Delaunay")
+    missing = int(np.count_nonzero(~used[distinct]))
+    dup_used = int(np.count_nonzero(used & (dup != np.arange(n))))
+    _problem(problems, checks, "all_points_used", missing or dup_used,
+             f"{missing} distinct points are not vertices, {dup_used} duplicates are")
+    hull_ok = len(hull) == n_boundary and n_boundary > 0
+    if hull_ok:
+        nxt = np.roll(hull, -1)
+        hull_ok = bool(np.all(out_next[hull] == nxt))
+    _problem(problems, checks, "hull", not hull_ok, "hull is not the counter-clockwise boundary loop")
+    return VerifyReport(not problems, checks, problems, counts)

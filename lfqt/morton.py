@@ -1,0 +1,89 @@
+"""Morton keys of the linear floating-point quad-tree (fqDel 2.2).
+
+Float bit patterns are mapped to unsigned integers whose order is the numeric
+order (negative values: invert every bit; positive values: set the sign bit),
+after folding ``-0.0`` into ``+0.0`` so that equal points get equal keys.  The
+two coordinates are then interleaved with x on the odd bits, so the most
+significant key bit is x's sign bit and a split at an odd bit divides in x.
+
+float32 points give one 64-bit key.  float64 points give a 128-bit key, kept
+as two uint64 arrays ``(hi, lo)``: ``hi`` interleaves the upper 32 bits of x
+and y, ``lo`` the lower 32 bits.
+"""
+import numpy as np
+from numba import njit
+
+_U64 = np.uint64
+_SIGN64 = _U64(1 << 63)
+_SIGN32 = np.uint32(1 << 31)
+_LOW32 = _U64(0xFFFFFFFF)
+_M16 = _U64(0x0000FFFF0000FFFF)
+_M8 = _U64(0x00FF00FF00FF00FF)
+_M4 = _U64(0x0F0F0F0F0F0F0F0F)
+_M2 = _U64(0x3333333333333333)
+_M1 = _U64(0x5555555555555555)
+_S16, _S8, _S4, _S2, _S1, _S32 = _U64(16), _U64(8), _U64(4), _U64(2), _U64(1), _U64(32)
+
+
+@njit(cache=True, inline="always")
+def ordered_bits64(bits):
+    """Order-preserving image of float64 bits (as uint64); -0.0 maps like +0.0."""
+    if bits == _SIGN64:
+        bits = _U64(0)
+    if bits & _SIGN64:
+        return ~bits
+    return bits | _SIGN64
+
+
+@njit(cache=True, inline="always")
+def ordered_bits32(bits):
+    """Order-preserving image of float32 bits (as uint32); -0.0 maps like +0.0."""
+    if bits == _SIGN32:
+        bits = np.uint32(0)
+    if bits & _SIGN32:
+        return ~bits
+    return bits | _SIGN32
+
+
+@njit(cache=True, inline="always")
+def spread_bits(v):
+    """Move bit k of a 32-bit value to bit 2k."""
+    v = (v | (v << _S16)) & _M16
+    v = (v | (v << _S8)) & _M8
+    v = (v | (v << _S4)) & _M4
+    v = (v | (v << _S2)) & _M2
+    v = (v | (v << _S1)) & _M1
+    return v
+
+
+@njit(cache=True, inline="always")
+def interleave(x32, y32):
+    return (spread_bits(x32) << _S1) | spread_bits(y32)
+
+
+@njit(cache=True)
+def morton_keys32(x, y):
+    """64-bit keys of float32 coordinate arrays."""
+    n = x.shape[0]
+    keys = np.empty(n, dtype=np.uint64)
+    xb = x.view(np.uint32)
+    yb = y.view(np.uint32)
+    for i in range(n):
+        keys[i] = interleave(_U64(ordered_bits32(xb[i])), _U64(ordered_bits32(yb[i])))
+    return keys
+
+
+@njit(cache=True)
+def morton_keys64(x, y):
+    """128-bit keys of float64 coordinate arrays, as (hi, lo)."""
+    n = x.shape[0]
+    hi = np.empty(n, dtype=np.uint64)
+    lo = np.empty(n, dtype=np.uint64)
+    xb = x.view(np.uint64)
+    yb = y.view(np.uint64)
+    for i in range(n):
+        ox = ordered_bits64(xb[i])
+        oy = ordered_bits64(yb[i])
+        hi[i] = interleave(ox >> _S32, oy >> _S32)
+        lo[i] = interleave(ox & _LOW32, oy & _LOW32)
+    return hi, lo

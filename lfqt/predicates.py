@@ -1,0 +1,399 @@
+"""Staged exact orientation and in-circle predicates (Shewchuk 1997, fqDel 2.4).
+
+Every predicate returns a float whose *sign* is exact; its magnitude is only an
+estimate.  Three stages:
+
+1. a float filter: ``|det| > bound * permanent`` decides.  The bound is either
+   Triangle's constant (``CCW_A`` / ``ICC_A``) or the level-dependent bound of
+   the LFQT (:func:`level_bounds`), passed in by the caller;
+2. Shewchuk's stage B: the determinant of the *rounded* coordinate differences,
+   computed exactly as an expansion.  It decides when the differences were
+   exact or when it clears ``CCW_B`` / ``ICC_B``;
+3. exact expansion arithmetic from the coordinates themselves.
+
+Expansion arithmetic is exact only without overflow and underflow; callers keep
+coordinates inside ``[2**-150, 2**250]`` (see ``lfqt.api``), which guarantees
+that every intermediate value is zero or a normal number.
+
+``counters`` is an int64 array laid out as the ``C_*`` indices below.
+"""
+import numpy as np
+from numba import njit
+
+EPS = 2.0 ** -53
+SPLITTER = 2.0 ** 27 + 1.0
+CCW_A = (3.0 + 16.0 * EPS) * EPS
+CCW_B = (2.0 + 12.0 * EPS) * EPS
+ICC_A = (10.0 + 96.0 * EPS) * EPS
+ICC_B = (4.0 + 48.0 * EPS) * EPS
+# Level-dependent stage-1 bounds (fqDel 2.4), derived in level_bounds below.
+CCW_EXACT_DIFF = (2.0 + 16.0 * EPS) * EPS
+ICC_EXACT_DIFF = (7.0 + 56.0 * EPS) * EPS
+ICC_EXACT_PRODUCTS = (3.0 + 24.0 * EPS) * EPS
+
+C_ORIENT, C_ORIENT_S1, C_ORIENT_S2, C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2 = range(6)
+N_COUNTERS = 6
+COUNTER_NAMES = ("orient", "orient_stage1_undecided", "orient_stage2_undecided",
+                 "incircle", "incircle_stage1_undecided", "incircle_stage2_undecided")
+WORK_SIZE = 512  # doubles of scratch space needed by incircle's stage B
+
+
+@njit(cache=True, inline="always")
+def two_sum(a, b):
+    x = a + b
+    bv = x - a
+    av = x - bv
+    return x, (a - av) + (b - bv)
+
+
+@njit(cache=True, inline="always")
+def two_diff(a, b):
+    x = a - b
+    bv = a - x
+    av = x + bv
+    return x, (a - av) + (bv - b)
+
+
+@njit(cache=True, inline="always")
+def _split(a):
+    c = SPLITTER * a
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+@njit(cache=True, inline="always")
+def two_product(a, b):
+    x = a * b
+    ahi, alo = _split(a)
+    bhi, blo = _split(b)
+    err = x - ahi * bhi
+    err = err - alo * bhi
+    err = err - ahi * blo
+    return x, alo * blo - err
+
+
+@njit(cache=True)
+def expansion_sum(e, elen, f, flen, h):
+    """h = e + f for nonoverlapping expansions (Shewchuk's fast expansion sum,
+    zero-eliminating); returns the length of h."""
+    i = 0
+    j = 0
+    if j >= flen or (i < elen and abs(e[i]) < abs(f[j])):
+        q = e[i]
+        i += 1
+    else:
+        q = f[j]
+        j += 1
+    hlen = 0
+    while i < elen or j < flen:
+        if j >= flen or (i < elen and abs(e[i]) < abs(f[j])):
+            g = e[i]
+            i += 1
+        else:
+            g = f[j]
+            j += 1
+        q, err = two_sum(q, g)
+        if err != 0.0:
+            h[hlen] = err
+            hlen += 1
+    if q != 0.0 or hlen == 0:
+        h[hlen] = q
+        hlen += 1
+    return hlen
+
+
+@njit(cache=True)
+def scale_expansion(e, elen, b, h):
+    """h = b * e, zero-eliminating; returns the length of h."""
+    q, hh = two_product(e[0], b)
+    hlen = 0
+    if hh != 0.0:
+        h[hlen] = hh
+        hlen += 1
+    for i in range(1, elen):
+        p1, p0 = two_product(e[i], b)
+        s, hh = two_sum(q, p0)
+        if hh != 0.0:
+            h[hlen] = hh
+            hlen += 1
+        q, hh = two_sum(p1, s)
+        if hh != 0.0:
+            h[hlen] = hh
+            hlen += 1
+    if q != 0.0 or hlen == 0:
+        h[hlen] = q
+        hlen += 1
+    return hlen
+
+
+@njit(cache=True)
+def expansion_product(e, elen, f, flen):
+    """e * f as a new expansion (rarely used: only the exact stage needs it)."""
+    cap = 2 * elen * flen + 1
+    acc = np.zeros(cap)
+    acc_len = 1
+    tmp = np.empty(2 * elen)
+    out = np.empty(cap)
+    for j in range(flen):
+        tlen = scale_expansion(e, elen, f[j], tmp)
+        olen = expansion_sum(acc, acc_len, tmp, tlen, out)
+        acc, out = out, acc
+        acc_len = olen
+    return acc, acc_len
+
+
+@njit(cache=True)
+def _negate(e, elen):
+    out = np.empty(elen)
+    for i in range(elen):
+        out[i] = -e[i]
+    return out
+
+
+@njit(cache=True)
+def _exact_diff(a, b):
+    x, y = two_diff(a, b)
+    out = np.empty(2)
+    if y == 0.0:
+        out[0] = x
+        return out, 1
+    out[0] = y
+    out[1] = x
+    return out, 2
+
+
+@njit(cache=True)
+def _expansion_sign(e, elen):
+    top = e[elen - 1]
+    return 1.0 if top > 0.0 else (-1.0 if top < 0.0 else 0.0)
+
+
+@njit(cache=True)
+def _cross_exact(ux, uxl, vy, vyl, uy, uyl, vx, vxl):
+    """ux*vy - uy*vx for expansion operands."""
+    p, pl = expansion_product(ux, uxl, vy, vyl)
+    q, ql = expansion_product(uy, uyl, vx, vxl)
+    out = np.empty(pl + ql)
+    n = expansion_sum(p, pl, _negate(q, ql), ql, out)
+    return out, n
+
+
+@njit(cache=True)
+def orient2d_exact(ax, ay, bx, by, cx, cy):
+    """Exact sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]] as -1.0, 0.0 or 1.0."""
+    acx, acxl = _exact_diff(ax, cx)
+    acy, acyl = _exact_diff(ay, cy)
+    bcx, bcxl = _exact_diff(bx, cx)
+    bcy, bcyl = _exact_diff(by, cy)
+    d, dl = _cross_exact(acx, acxl, bcy, bcyl, acy, acyl, bcx, bcxl)
+    return _expansion_sign(d, dl)
+
+
+@njit(cache=True)
+def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    """Exact sign of the in-circle determinant: > 0 when d lies inside the
+    circle through a, b, c (counter-clockwise)."""
+    adx, adxl = _exact_diff(ax, dx)
+    ady, adyl = _exact_diff(ay, dy)
+    bdx, bdxl = _exact_diff(bx, dx)
+    bdy, bdyl = _exact_diff(by, dy)
+    cdx, cdxl = _exact_diff(cx, dx)
+    cdy, cdyl = _exact_diff(cy, dy)
+    total = np.zeros(1)
+    total_len = 1
+    for k in range(3):
+        if k == 0:
+            px, pxl, py, pyl = adx, adxl, ady, adyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = bdx, bdxl, bdy, bdyl, cdx, cdxl, cdy, cdyl
+        elif k == 1:
+            px, pxl, py, pyl = bdx, bdxl, bdy, bdyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = cdx, cdxl, cdy, cdyl, adx, adxl, ady, adyl
+        else:
+            px, pxl, py, pyl = cdx, cdxl, cdy, cdyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = adx, adxl, ady, adyl, bdx, bdxl, bdy, bdyl
+        xx, xxl = expansion_product(px, pxl, px, pxl)
+        yy, yyl = expansion_product(py, pyl, py, pyl)
+        lift = np.empty(xxl + yyl)
+        liftl = expansion_sum(xx, xxl, yy, yyl, lift)
+        cr, crl = _cross_exact(ux, uxl, vy, vyl, uy, uyl, vx, vxl)
+        term, terml = expansion_product(lift, liftl, cr, crl)
+        new_total = np.empty(total_len + terml)
+        total_len = expansion_sum(total, total_len, term, terml, new_total)
+        total = new_total
+    return _expansion_sign(total, total_len)
+
+
+@njit(cache=True, inline="always")
+def _sign4(x3, x2, x1, x0):
+    for v in (x3, x2, x1, x0):
+        if v != 0.0:
+            return 1.0 if v > 0.0 else -1.0
+    return 0.0
+
+
+@njit(cache=True)
+def orient2d(ax, ay, bx, by, cx, cy, bound, counters):
+    """> 0 when a, b, c turn counter-clockwise, < 0 clockwise, 0 collinear."""
+    counters[C_ORIENT] += 1
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
+    detleft = acx * bcy
+    detright = acy * bcx
+    det = detleft - detright
+    # Opposite signs (or a zero product) cannot be flipped by rounding.
+    if detleft > 0.0:
+        if detright <= 0.0:
+            return det
+        detsum = detleft + detright
+    elif detleft < 0.0:
+        if detright >= 0.0:
+            return det
+        detsum = -detleft - detright
+    else:
+        return det
+    errbound = bound * detsum
+    if det >= errbound or -det >= errbound:
+        return det
+    counters[C_ORIENT_S1] += 1
+    # Stage B: exact determinant of the rounded differences.
+    l1, l0 = two_product(acx, bcy)
+    r1, r0 = two_product(acy, bcx)
+    i, x0 = two_diff(l0, r0)
+    j, x1 = two_sum(l1, i)
+    k, x1b = two_diff(x1, r1)
+    x3, x2 = two_sum(j, k)
+    # (x3, x2, x1b, x0) is the Two-Two-Diff expansion of (l1 + l0) - (r1 + r0)
+    tails_zero = (two_diff(ax, cx)[1] == 0.0 and two_diff(bx, cx)[1] == 0.0
+                  and two_diff(ay, cy)[1] == 0.0 and two_diff(by, cy)[1] == 0.0)
+    if tails_zero:
+        return _sign4(x3, x2, x1b, x0)
+    est = x3 + x2 + x1b + x0
+    errbound = CCW_B * detsum
+    if est >= errbound or -est >= errbound:
+        return est
+    counters[C_ORIENT_S2] += 1
+    return orient2d_exact(ax, ay, bx, by, cx, cy)
+
+
+@njit(cache=True)
+def _lifted_term(px, py, ux, uy, vx, vy, work, base):
+    """(px^2 + py^2) * (ux*vy - vx*uy) for exact doubles, as an expansion
+    stored at work[base : base + len]; returns len (<= 32).  work[256:304]
+    is scratch."""
+    l1, l0 = two_product(ux, vy)
+    r1, r0 = two_product(vx, uy)
+    i, x0 = two_diff(l0, r0)
+    j, x1 = two_sum(l1, i)
+    k, x1b = two_diff(x1, r1)
+    x3, x2 = two_sum(j, k)
+    cr = work[256:260]
+    cr[0] = x0
+    cr[1] = x1b
+    cr[2] = x2
+    cr[3] = x3
+    t8 = work[260:268]
+    t16a = work[272:288]
+    t16b = work[288:304]
+    n8 = scale_expansion(cr, 4, px, t8)
+    na = scale_expansion(t8, n8, px, t16a)
+    n8 = scale_expansion(cr, 4, py, t8)
+    nb = scale_expansion(t8, n8, py, t16b)
+    return expansion_sum(t16a, na, t16b, nb, work[base: base + 32])
+
+
+@njit(cache=True)
+def incircle(ax, ay, bx, by, cx, cy, dx, dy, bound, counters, work):
+    """> 0 when d lies inside the circle through a, b, c (counter-clockwise),
+    < 0 outside, 0 on it.  ``work`` is scratch of at least WORK_SIZE doubles."""
+    counters[C_INCIRCLE] += 1
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+    det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
+           + clift * (adxbdy - bdxady))
+    permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
+                 + (abs(cdxady) + abs(adxcdy)) * blift
+                 + (abs(adxbdy) + abs(bdxady)) * clift)
+    errbound = bound * permanent
+    if det > errbound or -det > errbound:
+        return det
+    counters[C_INCIRCLE_S1] += 1
+    # Stage B: exact determinant of the rounded differences.
+    na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
+    nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
+    nc = _lifted_term(cdx, cdy, adx, ady, bdx, bdy, work, 64)
+    ab = work[96:160]
+    nab = expansion_sum(work[0:32], na, work[32:64], nb, ab)
+    fin = work[160:256]
+    nfin = expansion_sum(ab, nab, work[64:96], nc, fin)
+    tails_zero = (two_diff(ax, dx)[1] == 0.0 and two_diff(bx, dx)[1] == 0.0
+                  and two_diff(cx, dx)[1] == 0.0 and two_diff(ay, dy)[1] == 0.0
+                  and two_diff(by, dy)[1] == 0.0 and two_diff(cy, dy)[1] == 0.0)
+    if tails_zero:
+        return _expansion_sign(fin, nfin)
+    est = 0.0
+    for i in range(nfin):
+        est += fin[i]
+    errbound = ICC_B * permanent
+    if est >= errbound or -est >= errbound:
+        return est
+    counters[C_INCIRCLE_S2] += 1
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+
+
+@njit(cache=True)
+def level_bounds(level, coord_bits, exp_bits, mant_bits, ex, ey):
+    """Stage-1 bounds (orient, incircle) for predicates on points that share
+    every Morton key bit above ``level`` (fqDel section 2.4).
+
+    ``ex``/``ey`` are the binade exponents of the node's x and y in the input
+    format (floor(log2|v|), or the smallest normal exponent for zero and
+    subnormals).  Once a node shares sign and exponent in both coordinates,
+    coordinate differences are exact (Sterbenz), multiples of one ulp and
+    shorter than the unshared mantissa.  With ``b`` the bit span of all
+    differences: products are exact when they fit 53 bits, which makes the
+    orientation sign exact (bound 0) and, for in-circle, removes roundings
+    from the error analysis of Shewchuk's stage A.
+    """
+    sx = coord_bits - (level + 1) // 2
+    sy = coord_bits - level // 2 - 1
+    need = 1 + exp_bits
+    if sx < need or sy < need:
+        return CCW_A, ICC_A
+    mx = sx - need
+    my = sy - need
+    lx = ex - mant_bits
+    ly = ey - mant_bits
+    bits_x = mant_bits - mx
+    bits_y = mant_bits - my
+    ccw = 0.0 if bits_x + bits_y <= 53 else CCW_EXACT_DIFF
+    span = max(ex - mx, ey - my) - min(lx, ly)
+    if 4 * span + 4 <= 53:
+        icc = 0.0
+    elif 2 * span + 1 <= 53:
+        icc = ICC_EXACT_PRODUCTS
+    else:
+        icc = ICC_EXACT_DIFF
+    return ccw, icc
+
+
+def new_counters():
+    return np.zeros(N_COUNTERS, dtype=np.int64)
+
+
+def new_work():
+    return np.empty(WORK_SIZE, dtype=np.float64)

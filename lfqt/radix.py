@@ -1,0 +1,110 @@
+"""LSD radix sort on 8-bit digits (fqDel 3.1).
+
+One pass over the keys builds the histograms of every digit; a digit that is
+the same for all keys is skipped, so data that shares its leading bits (all
+positive, one binade, ...) pays only for the digits that vary.  Sorting is
+stable, which makes the first of a run of equal keys its smallest input index.
+"""
+import numpy as np
+from numba import njit
+
+_FF = np.uint64(0xFF)
+_INSERTION_RUN = 24
+
+
+@njit(cache=True)
+def _histograms(keys, lo, hi):
+    counts = np.zeros((8, 256), dtype=np.int64)
+    for i in range(lo, hi):
+        k = keys[i]
+        for d in range(8):
+            counts[d, (k >> np.uint64(8 * d)) & _FF] += 1
+    return counts
+
+
+@njit(cache=True)
+def radix_sort_range(keys, perm, lo, hi, key_buf, perm_buf):
+    """Stable sort of keys[lo:hi] (uint64) carrying perm[lo:hi], in place;
+    key_buf/perm_buf are scratch of the same length as keys."""
+    n = hi - lo
+    if n < 2:
+        return 0
+    counts = _histograms(keys, lo, hi)
+    first = keys[lo]
+    passes = 0
+    offsets = np.empty(256, dtype=np.int64)
+    src_k, src_p, dst_k, dst_p = keys, perm, key_buf, perm_buf
+    for d in range(8):
+        shift = np.uint64(8 * d)
+        if counts[d, (first >> shift) & _FF] == n:
+            continue
+        total = lo
+        for b in range(256):
+            offsets[b] = total
+            total += counts[d, b]
+        for i in range(lo, hi):
+            k = src_k[i]
+            b = (k >> shift) & _FF
+            j = offsets[b]
+            offsets[b] = j + 1
+            dst_k[j] = k
+            dst_p[j] = src_p[i]
+        src_k, src_p, dst_k, dst_p = dst_k, dst_p, src_k, src_p
+        passes += 1
+    if passes % 2 == 1:
+        for i in range(lo, hi):
+            keys[i] = key_buf[i]
+            perm[i] = perm_buf[i]
+    return passes
+
+
+@njit(cache=True)
+def sort_keys64(keys, index_dtype_sample):
+    """Sort 64-bit keys; returns (sorted_keys, perm) with
+    sorted_keys[i] = keys[perm[i]]."""
+    n = keys.shape[0]
+    sorted_keys = keys.copy()
+    perm = np.empty(n, dtype=index_dtype_sample.dtype)
+    for i in range(n):
+        perm[i] = i
+    key_buf = np.empty(n, dtype=np.uint64)
+    perm_buf = np.empty(n, dtype=perm.dtype)
+    radix_sort_range(sorted_keys, perm, 0, n, key_buf, perm_buf)
+    return sorted_keys, perm
+
+
+@njit(cache=True)
+def sort_keys128(hi, lo, index_dtype_sample):
+    """Sort 128-bit keys given as (hi, lo) uint64 arrays: radix on ``hi``,
+    then order each run of equal ``hi`` by ``lo`` (insertion sort for short
+    runs, radix sort for long ones).  Returns (sorted_hi, sorted_lo, perm)."""
+    n = hi.shape[0]
+    shi, perm = sort_keys64(hi, index_dtype_sample)
+    slo = np.empty(n, dtype=np.uint64)
+    for i in range(n):
+        slo[i] = lo[perm[i]]
+    key_buf = np.empty(0, dtype=np.uint64)
+    perm_buf = np.empty(0, dtype=perm.dtype)
+    start = 0
+    while start < n:
+        end = start + 1
+        while end < n and shi[end] == shi[start]:
+            end += 1
+        if end - start > _INSERTION_RUN:
+            if key_buf.shape[0] < n:
+                key_buf = np.empty(n, dtype=np.uint64)
+                perm_buf = np.empty(n, dtype=perm.dtype)
+            radix_sort_range(slo, perm, start, end, key_buf, perm_buf)
+        elif end - start > 1:
+            for i in range(start + 1, end):
+                k = slo[i]
+                p = perm[i]
+                j = i - 1
+                while j >= start and slo[j] > k:
+                    slo[j + 1] = slo[j]
+                    perm[j + 1] = perm[j]
+                    j -= 1
+                slo[j + 1] = k
+                perm[j + 1] = p
+        start = end
+    return shi, slo, perm
