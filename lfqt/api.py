@@ -34,10 +34,14 @@ def _coordinates(points):
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"points must have shape (n, 2), got {arr.shape}")
     if arr.dtype.kind in "iu":
-        if arr.size and int(np.abs(arr.astype(np.float64)).max()) > 2 ** 53:
-            big = np.flatnonzero(np.abs(arr).max(axis=1) > 2 ** 53)
-            raise ValueError(f"{len(big)} integer rows exceed 2**53 and cannot be converted "
-                             f"to float64 exactly; the first is row {big[0]}")
+        big = (arr > 2 ** 53) | (arr < -2 ** 53)
+        inexact = np.zeros(len(arr), dtype=bool)
+        for r, c in zip(*np.nonzero(big)):
+            inexact[r] |= int(float(arr[r, c])) != int(arr[r, c])
+        if inexact.any():
+            rows = np.flatnonzero(inexact)
+            raise ValueError(f"{len(rows)} integer rows are not exactly representable in float64 "
+                             f"(beyond 2**53); the first is row {rows[0]}")
         arr = arr.astype(np.float64)
     elif arr.dtype == np.float16:
         arr = arr.astype(np.float32)
@@ -249,6 +253,10 @@ class Delaunay:
         self.stats = self._tri.stats
         self._xs, self._ys = _exact_coordinates(points)
         self._scale = 2.0 ** _scale_exponent(*_coordinates(points))
+        self._lo = self.points.min(axis=0)
+        self._hi = self.points.max(axis=0)
+        self._simplices64 = self.simplices.astype(np.int64)
+        self._neighbors64 = self.neighbors.astype(np.int64)
         self._vnv = None
 
     @property
@@ -276,10 +284,18 @@ class Delaunay:
         q = q.reshape(-1, 2)
         if not np.isfinite(q).all():
             raise ValueError("query points must be finite")
-        qx = np.ascontiguousarray(q[:, 0]) * self._scale
-        qy = np.ascontiguousarray(q[:, 1]) * self._scale
-        found = _locate(self._xs, self._ys, self.simplices.astype(np.int64),
-                        self.neighbors.astype(np.int64), qx, qy, 0)
+        # Outside the bounding box needs no predicate (and could overflow one).
+        inside = ((q[:, 0] >= self._lo[0]) & (q[:, 0] <= self._hi[0])
+                  & (q[:, 1] >= self._lo[1]) & (q[:, 1] <= self._hi[1]))
+        qx = np.ascontiguousarray(q[inside, 0]) * self._scale
+        qy = np.ascontiguousarray(q[inside, 1]) * self._scale
+        mags = np.abs(np.concatenate((qx, qy)))
+        if np.any((mags > 0) & (mags < 2.0 ** (MIN_ULP_EXP + 52))):
+            raise ValueError("query coordinates are too small relative to the triangulated "
+                             "points for exact predicates")
+        found = np.full(len(q), -1, dtype=np.int64)
+        found[inside] = _locate(self._xs, self._ys, self._simplices64, self._neighbors64,
+                                qx, qy, 0)
         return found.astype(np.int32).reshape(shape)
 
     @property

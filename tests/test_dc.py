@@ -1,0 +1,166 @@
+"""The LFQT and alternating triangulators on fixtures and random sets; every
+mesh is verified exactly (conftest.triangulate_verified)."""
+import numpy as np
+import pytest
+import scipy.spatial
+from hypothesis import given, strategies as st
+
+import lfqt
+from conftest import triangle_set, triangulate_verified
+
+SUBDIVISIONS = ["lfqt", "alternating"]
+DTYPES = [np.float64, np.float32]
+
+
+def grid(k):
+    g = np.stack(np.meshgrid(np.arange(k), np.arange(k)), -1).reshape(-1, 2)
+    return g.astype(np.float64)
+
+
+def fixtures():
+    rng = np.random.default_rng(7)
+    ang = np.linspace(0, 2 * np.pi, 257, endpoint=False)
+    rot = np.array([[0.6, -0.8], [0.8, 0.6]])  # exact Pythagorean rotation
+    k = np.arange(17)
+    return {
+        "grid_2^5": grid(32),
+        "grid_2^4_offset": grid(16) + 2.0 ** 20,
+        "rotated_grid": grid(20) @ rot.T,
+        "circle": np.c_[np.cos(ang), np.sin(ang)],
+        "circle_with_centre": np.r_[np.c_[np.cos(ang), np.sin(ang)], [[0.0, 0.0]]],
+        "regular_polygon": np.c_[np.cos(2 * np.pi * k / 17), np.sin(2 * np.pi * k / 17)],
+        "square_corners_repeated": np.tile([[0.0, 0.0], [1, 0], [1, 1], [0, 1]], (5, 1)),
+        "negative_zero": np.array([[0.0, 0.0], [-0.0, 1.0], [1.0, -0.0], [-0.0, -0.0], [0.5, 0.5]]),
+        "all_quadrants": rng.standard_normal((2000, 2)),
+        "tiny_cluster": 0.5 + 1e-12 * rng.random((500, 2)),
+        "below_float32": np.r_[rng.random((200, 2)), rng.random((200, 2)) + 2.0 ** -40],
+        "scaled_1e-300": 1e-300 * rng.random((500, 2)),
+        "scaled_1e-9": 1e-9 * rng.random((500, 2)),
+        "scaled_1e9": 1e9 * rng.random((500, 2)),
+        "scaled_1e300": 1e300 * rng.random((500, 2)),
+        "subnormal": 1e-310 * rng.random((500, 2)),
+        "small_integers": rng.integers(0, 6, (300, 2)).astype(np.float64),
+        "line_plus_one": np.r_[np.c_[np.arange(50.0), np.zeros(50)], [[10.0, 1.0]]],
+        "two_columns": np.r_[np.c_[np.zeros(30), np.arange(30.0)], np.c_[np.ones(30), np.arange(30.0)]],
+    }
+
+
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+@pytest.mark.parametrize("name", sorted(fixtures()))
+def test_fixtures_are_delaunay(name, subdivision):
+    pts = fixtures()[name]
+    tri = triangulate_verified(pts, subdivision=subdivision)
+    assert not tri.degenerate
+    if name not in ("scaled_1e-300", "subnormal") and np.abs(pts).max() < 3e38 \
+            and np.abs(pts[pts != 0]).min(initial=1) > 1e-38:
+        triangulate_verified(pts.astype(np.float32), subdivision=subdivision)
+
+
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("pts,reason", [
+    (np.c_[np.arange(10.0), 2 * np.arange(10.0)], "all points collinear"),
+    (np.c_[np.zeros(9), np.arange(9.0)], "all points collinear"),
+    (np.ones((6, 2)), "fewer than 3 distinct points"),
+    (np.array([[0.0, 0.0], [1.0, 1.0], [0.0, 0.0]]), "fewer than 3 distinct points"),
+    (np.zeros((1, 2)), "fewer than 3 distinct points"),
+])
+def test_degenerate_sets_are_flagged(pts, reason, subdivision, dtype):
+    p = pts.astype(dtype)
+    tri = triangulate_verified(p, subdivision=subdivision)
+    assert tri.degenerate and tri.reason == reason and len(tri.simplices) == 0
+    order = np.lexsort((p[:, 1], p[:, 0]))
+    assert set(tri.hull) == {tri.duplicate_of[order[0]], tri.duplicate_of[order[-1]]}
+
+
+def test_empty_input():
+    tri = lfqt.triangulate(np.empty((0, 2)))
+    assert tri.degenerate and len(tri.hull) == 0 and len(tri.simplices) == 0
+
+
+def test_duplicates_are_reported_and_inserted_once(rng):
+    base = rng.random((400, 2))
+    pts = np.r_[base, base[::3], base[:10]]
+    tri = triangulate_verified(pts)
+    assert tri.n_distinct == 400
+    dup = tri.duplicate_of
+    assert np.all(dup[:400] == np.arange(400))
+    assert np.array_equal(dup[400:400 + len(base[::3])], np.arange(0, 400, 3))
+    assert np.all(np.bincount(tri.simplices.ravel(), minlength=len(pts))[400:] == 0)
+
+
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+def test_agrees_with_scipy_in_general_position(subdivision, rng):
+    pts = rng.random((3000, 2))
+    ours = triangulate_verified(pts, subdivision=subdivision)
+    theirs = scipy.spatial.Delaunay(pts)
+    assert triangle_set(ours.simplices) == triangle_set(theirs.simplices)
+
+
+def test_output_conventions(rng):
+    pts = rng.random((500, 2))
+    tri = triangulate_verified(pts)
+    assert tri.simplices.dtype == np.int32 and tri.neighbors.dtype == np.int32
+    assert tri.simplices.shape == tri.neighbors.shape == (len(tri.simplices), 3)
+    # neighbour i is opposite vertex i: it shares the other two vertices
+    for t in range(0, len(tri.simplices), 37):
+        for i in range(3):
+            u = tri.neighbors[t, i]
+            if u >= 0:
+                shared = set(tri.simplices[t]) - {tri.simplices[t, i]}
+                assert shared <= set(tri.simplices[u])
+    assert tri.points is pts
+
+
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+def test_order_of_input_does_not_change_the_triangulation(subdivision, rng):
+    pts = rng.random((1000, 2))
+    perm = rng.permutation(1000)
+    a = triangulate_verified(pts, subdivision=subdivision)
+    b = triangulate_verified(pts[perm], subdivision=subdivision)
+    assert triangle_set(a.simplices) == triangle_set(perm[b.simplices])
+
+
+def test_filters_agree_and_level_filter_leaves_fewer_undecided():
+    pts = np.random.default_rng(3).random((20000, 2))
+    lev = triangulate_verified(pts, counters=True, filter="level")
+    con = triangulate_verified(pts, counters=True, filter="constant")
+    assert triangle_set(lev.simplices) == triangle_set(con.simplices)
+    pl, pc = lev.stats["predicates"], con.stats["predicates"]
+    assert pl["orient"] == pc["orient"] and pl["incircle"] == pc["incircle"]
+    assert pl["incircle_stage1_undecided"] <= pc["incircle_stage1_undecided"]
+
+
+def test_grid_cocircularity_goes_to_stage_two():
+    tri = triangulate_verified(grid(64), counters=True)
+    p = tri.stats["predicates"]
+    assert p["incircle_stage1_undecided"] > 0
+    assert p["incircle_stage2_undecided"] == 0  # integer differences are exact: stage B decides
+
+
+def test_stats_report_phases():
+    tri = lfqt.triangulate(np.random.default_rng(0).random((1000, 2)), counters=True)
+    assert set(tri.stats["seconds"]) >= {"sort", "subdivide", "merge", "total"}
+    assert tri.stats["key_bits"] == 128 and tri.stats["n_distinct"] == 1000
+    f32 = np.array([[0, 0], [1, 0], [0, 1]], dtype=np.float32)
+    assert lfqt.triangulate(f32).stats["key_bits"] == 64
+
+
+coordinate = st.one_of(st.integers(-4, 4).map(float), st.floats(-1, 1, width=32).map(float))
+
+
+@given(st.lists(st.tuples(coordinate, coordinate), min_size=1, max_size=60),
+       st.sampled_from(SUBDIVISIONS), st.sampled_from(DTYPES))
+def test_random_degenerate_sets_are_delaunay(points, subdivision, dtype):
+    pts = np.array(points, dtype=dtype)
+    tri = triangulate_verified(pts, subdivision=subdivision)
+    distinct = {tuple(p) for p in pts.tolist()}
+    assert tri.n_distinct == len(distinct)
+
+
+@given(st.integers(0, 2 ** 32 - 1), st.integers(3, 400))
+def test_random_uniform_sets_match_between_subdivisions(seed, n):
+    pts = np.random.default_rng(seed).random((n, 2))
+    a = triangulate_verified(pts, subdivision="lfqt")
+    b = triangulate_verified(pts, subdivision="alternating")
+    assert triangle_set(a.simplices) == triangle_set(b.simplices)

@@ -1,0 +1,64 @@
+import numpy as np
+from hypothesis import given, strategies as st
+
+from lfqt import morton
+
+f64 = st.floats(allow_nan=False)
+f32 = st.floats(allow_nan=False, width=32)
+
+
+def ordered64(v):
+    return int(morton.ordered_bits64(np.array([v]).view(np.uint64)[0]))
+
+
+def ordered32(v):
+    return int(morton.ordered_bits32(np.array([v], dtype=np.float32).view(np.uint32)[0]))
+
+
+@given(f64, f64)
+def test_float64_bits_preserve_order(a, b):
+    assert (a < b) == (ordered64(a) < ordered64(b))
+    assert (a == b) == (ordered64(a) == ordered64(b))
+
+
+@given(f32, f32)
+def test_float32_bits_preserve_order(a, b):
+    assert (a < b) == (ordered32(a) < ordered32(b))
+    assert (a == b) == (ordered32(a) == ordered32(b))
+
+
+def test_negative_zero_folds_into_positive_zero():
+    assert ordered64(-0.0) == ordered64(0.0) == 1 << 63
+    assert ordered32(-0.0) == ordered32(0.0) == 1 << 31
+
+
+def reference_interleave(x, y, bits):
+    key = 0
+    for k in range(bits):
+        key |= ((x >> k) & 1) << (2 * k + 1)
+        key |= ((y >> k) & 1) << (2 * k)
+    return key
+
+
+@given(st.integers(0, 2 ** 32 - 1), st.integers(0, 2 ** 32 - 1))
+def test_interleave_puts_x_on_odd_bits(x, y):
+    got = int(morton.interleave(np.uint64(x), np.uint64(y)))
+    assert got == reference_interleave(x, y, 32)
+
+
+@given(st.lists(st.tuples(f64, f64), min_size=1, max_size=20))
+def test_128bit_keys_are_interleaved_ordered_bits(pts):
+    x = np.array([p[0] for p in pts])
+    y = np.array([p[1] for p in pts])
+    hi, lo = morton.morton_keys64(x, y)
+    for i in range(len(pts)):
+        expect = reference_interleave(ordered64(x[i]), ordered64(y[i]), 64)
+        assert (int(hi[i]) << 64) | int(lo[i]) == expect
+
+
+def test_float32_keys_split_quadrants_by_sign():
+    x = np.array([-1, 1, -1, 1], dtype=np.float32)
+    y = np.array([-1, -1, 1, 1], dtype=np.float32)
+    keys = morton.morton_keys32(x, y)
+    # x sign is the top bit, y sign the next: (-,-) < (-,+) < (+,-) < (+,+)
+    assert list(np.argsort(keys)) == [0, 2, 1, 3]

@@ -1,0 +1,203 @@
+from fractions import Fraction
+
+import numpy as np
+from hypothesis import assume, given, strategies as st
+
+from lfqt import dc, morton, predicates as P
+from lfqt.api import _exact_coordinates, _scale_exponent
+
+# Magnitudes within one exactness window (the API refuses wider spans).
+finite = st.floats(min_value=-1e30, max_value=1e30).filter(lambda v: v == 0 or abs(v) > 1e-90)
+unit = st.floats(0, 1).filter(lambda v: v == 0 or v > 1e-90)
+signed_unit = st.floats(-1, 1).filter(lambda v: v == 0 or abs(v) > 1e-90)
+small_ints = st.integers(-8, 8).map(float)
+coords = st.one_of(finite, small_ints)
+point = st.tuples(coords, coords)
+
+
+def orient_ref(a, b, c):
+    v = ((Fraction(a[0]) - Fraction(c[0])) * (Fraction(b[1]) - Fraction(c[1]))
+         - (Fraction(a[1]) - Fraction(c[1])) * (Fraction(b[0]) - Fraction(c[0])))
+    return (v > 0) - (v < 0)
+
+
+def incircle_ref(a, b, c, d):
+    rows = []
+    for p in (a, b, c):
+        x = Fraction(p[0]) - Fraction(d[0])
+        y = Fraction(p[1]) - Fraction(d[1])
+        rows.append((x, y, x * x + y * y))
+    (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = rows
+    v = a0 * (b1 * c2 - c1 * b2) - a1 * (b0 * c2 - c0 * b2) + a2 * (b0 * c1 - c0 * b1)
+    return (v > 0) - (v < 0)
+
+
+def sign(v):
+    return int(np.sign(v))
+
+
+def in_window(*pts):
+    """The points rescaled by the API's exact power of two (predicates are
+    exact only inside that window); signs are invariant under the rescale.
+    Sets the API refuses (magnitudes too far apart) are skipped."""
+    try:
+        xs, ys = _exact_coordinates(np.array(pts, dtype=np.float64))
+    except ValueError:
+        assume(False)
+    return [(float(x), float(y)) for x, y in zip(xs, ys)]
+
+
+def orient(a, b, c, bound=P.CCW_A):
+    a, b, c = in_window(a, b, c)
+    return sign(P.orient2d(*a, *b, *c, bound, P.new_counters()))
+
+
+def incircle(a, b, c, d, bound=P.ICC_A):
+    a, b, c, d = in_window(a, b, c, d)
+    return sign(P.incircle(*a, *b, *c, *d, bound, P.new_counters(), P.new_work()))
+
+
+@st.composite
+def near_line(draw):
+    """Three points on (or one ulp off) a line: the filter cannot decide them."""
+    a = (draw(unit), draw(unit))
+    d = (draw(signed_unit), draw(signed_unit))
+    t = draw(st.floats(-2, 2).filter(lambda v: v == 0 or abs(v) > 1e-90))
+    c = (a[0] + t * d[0], a[1] + t * d[1])
+    nudge = draw(st.integers(-2, 2))
+    c = (float(np.nextafter(c[0], np.inf * nudge)) if nudge else c[0], c[1])
+    b = (a[0] + d[0], a[1] + d[1])
+    return a, b, c
+
+
+@st.composite
+def near_circle(draw):
+    angles = [draw(st.floats(0, 6.283)) for _ in range(4)]
+    cx, cy, r = draw(signed_unit), draw(signed_unit), draw(st.floats(0.01, 10))
+    pts = [(cx + r * np.cos(t), cy + r * np.sin(t)) for t in angles]
+    k = draw(st.integers(0, 3))
+    nudge = draw(st.integers(-1, 1))
+    if nudge:
+        x, y = pts[k]
+        pts[k] = (float(np.nextafter(x, np.inf * nudge)), y)
+    return pts
+
+
+@given(point, point, point)
+def test_orient_matches_fractions(a, b, c):
+    assert orient(a, b, c) == orient_ref(a, b, c)
+
+
+@given(near_line())
+def test_orient_exact_near_collinear(pts):
+    assert orient(*pts) == orient_ref(*pts)
+    a, b, c = in_window(*pts)
+    assert sign(P.orient2d_exact(*a, *b, *c)) == orient_ref(*pts)
+
+
+@given(point, point, point)
+def test_orient_sign_flips_under_odd_permutation(a, b, c):
+    s = orient(a, b, c)
+    assert orient(b, c, a) == s and orient(c, a, b) == s
+    assert orient(b, a, c) == -s and orient(a, c, b) == -s
+
+
+@given(point, point, point, point)
+def test_incircle_matches_fractions(a, b, c, d):
+    assume(orient_ref(a, b, c) != 0)
+    assert incircle(a, b, c, d) == incircle_ref(a, b, c, d)
+
+
+@given(near_circle())
+def test_incircle_exact_near_cocircular(pts):
+    expected = incircle_ref(*pts)
+    assert incircle(*pts) == expected
+    a, b, c, d = in_window(*pts)
+    assert sign(P.incircle_exact(*a, *b, *c, *d)) == expected
+
+
+@given(point, point, point, point)
+def test_incircle_symmetry(a, b, c, d):
+    s = incircle(a, b, c, d)
+    assert incircle(b, c, a, d) == s
+    assert incircle(b, a, c, d) == -s
+
+
+def test_integer_cocircular_decided_exactly():
+    # Unit square corners are cocircular; stage 1 cannot decide, stage 2 must give 0.
+    cnt = P.new_counters()
+    v = P.incircle(0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, P.ICC_A, cnt, P.new_work())
+    assert v == 0.0
+    assert cnt[P.C_INCIRCLE_S1] == 1 and cnt[P.C_INCIRCLE_S2] == 0
+
+
+def test_counters_count_calls_and_undecided():
+    cnt = P.new_counters()
+    P.orient2d(0.0, 0.0, 1.0, 1.0, 2.0, 2.0, P.CCW_A, cnt)
+    P.orient2d(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, P.CCW_A, cnt)
+    assert cnt[P.C_ORIENT] == 2 and cnt[P.C_ORIENT_S1] == 1
+
+
+def _level_of(points, dtype):
+    x = np.array([p[0] for p in points], dtype=dtype)
+    y = np.array([p[1] for p in points], dtype=dtype)
+    if dtype == np.float32:
+        keys = [int(k) for k in morton.morton_keys32(x, y)]
+    else:
+        hi, lo = morton.morton_keys64(x, y)
+        keys = [(int(h) << 64) | int(l) for h, l in zip(hi, lo)]
+    diff = 0
+    for k in keys[1:]:
+        diff |= k ^ keys[0]
+    return diff.bit_length() - 1, x.astype(np.float64), y.astype(np.float64)
+
+
+@st.composite
+def node_points(draw, count):
+    """Points sharing a Morton prefix: a base point plus small integer offsets
+    of a few ulps, so they fall in one deep LFQT node."""
+    dtype = draw(st.sampled_from([np.float32, np.float64]))
+    bx = draw(st.floats(-1e6, 1e6, width=32 if dtype == np.float32 else 64))
+    by = draw(st.floats(-1e6, 1e6, width=32 if dtype == np.float32 else 64))
+    span = draw(st.integers(1, 40))
+    pts = []
+    for _ in range(count):
+        ox, oy = draw(st.integers(0, span)), draw(st.integers(0, span))
+        x, y = dtype(bx), dtype(by)
+        for _ in range(ox):
+            x = np.nextafter(x, dtype(np.inf))
+        for _ in range(oy):
+            y = np.nextafter(y, dtype(np.inf))
+        pts.append((float(x), float(y)))
+    return dtype, pts
+
+
+@given(node_points(4))
+def test_level_bounds_are_sound(sample):
+    dtype, pts = sample
+    level, x, y = _level_of(pts, dtype)
+    assume(level >= 0)
+    bits, ebits, mbits, emin = (32, 8, 23, -126) if dtype == np.float32 else (64, 11, 52, -1022)
+    try:
+        s = _scale_exponent(x.astype(dtype), y.astype(dtype))
+    except ValueError:
+        assume(False)
+    xs, ys = x * 2.0 ** s, y * 2.0 ** s
+    ex, ey = dc._binade(xs[0], s, emin), dc._binade(ys[0], s, emin)
+    ccw, icc = P.level_bounds(level, bits, ebits, mbits, ex, ey)
+    assert ccw <= P.CCW_A and icc <= P.ICC_A
+    a, b, c, d = [(float(xs[i]), float(ys[i])) for i in range(4)]
+    original = [(float(x[i]), float(y[i])) for i in range(4)]
+    cnt, work = P.new_counters(), P.new_work()
+    assert sign(P.orient2d(*a, *b, *c, ccw, cnt)) == orient_ref(*original[:3])
+    if orient_ref(*original[:3]) != 0:
+        assert sign(P.incircle(*a, *b, *c, *d, icc, cnt, work)) == incircle_ref(*original)
+
+
+def test_level_bounds_tighten_below_the_exponent_bits():
+    # Top of the tree: sign/exponent not shared, Triangle's constants.
+    assert P.level_bounds(127, 64, 11, 52, 0, 0) == (P.CCW_A, P.ICC_A)
+    # Deep level of a float32 node: differences have few bits, both exact.
+    assert P.level_bounds(4, 32, 8, 23, 0, 0) == (0.0, 0.0)
+    ccw, icc = P.level_bounds(60, 64, 11, 52, 0, 0)
+    assert ccw == P.CCW_EXACT_DIFF and icc == P.ICC_EXACT_DIFF
