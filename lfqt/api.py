@@ -7,7 +7,7 @@ from numba import njit
 
 from . import dc, morton, radix
 from .mesh import Triangulation
-from .predicates import CCW_A, COUNTER_NAMES, N_COUNTERS, WORK_SIZE, orient2d
+from .predicates import CCW_A, COUNTER_NAMES, N_COUNTERS, orient2d
 
 # Exactness window (see predicates): after an exact power-of-two rescale every
 # nonzero |coordinate| must lie in [2**(MIN_ULP_EXP + 52), 2**MAX_EXP).
@@ -131,7 +131,7 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter
     else:
         klo, perm = radix.sort_keys64(morton.morton_keys32(x, y), idx)
         khi = klo[:0]
-    xs, ys = dc.gather_sorted(x, y, perm, 2.0 ** scale_exp)
+    P = dc.gather_sorted(x, y, perm, 2.0 ** scale_exp)
     t_sort = time.perf_counter()
 
     ops = np.empty(max(2 * n - 1, 0), dtype=np.int64)
@@ -140,30 +140,28 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter
     del khi, klo
     if subdivision == "alternating" and n:
         ids = np.flatnonzero(rep == np.arange(n)).astype(np.int64)
-        nops = dc.subdivide_alternating(ids, xs, ys, ops)
+        nops = dc.subdivide_alternating(ids, P, ops)
         del ids
     t_subdivide = time.perf_counter()
 
     nslots = max(2 * (n - 1), 0)
-    V = np.full(3 * nslots, dc.UNUSED, dtype=idx.dtype)
-    H = np.empty(3 * nslots, dtype=idx.dtype)
+    T = np.full(6 * nslots, dc.UNUSED, dtype=idx.dtype)
     ghost_out = np.empty(n, dtype=idx.dtype)
     cnt = np.zeros(N_COUNTERS, dtype=np.int64)
-    work = np.empty(WORK_SIZE)
     out_ext = np.empty((dc._STACK, 4), dtype=np.int64)
     out_single = np.empty(dc._STACK, dtype=np.bool_)
     level_filter = filter == "level" and subdivision == "lfqt"
-    left = dc.run_ops(ops, 0, nops, xs, ys, V, H, ghost_out, fmt, level_filter, cnt, work,
+    left = dc.run_ops(ops, 0, nops, P, T, ghost_out, fmt, level_filter, cnt,
                       out_ext, out_single) if n else 0
     del ops
     t_merge = time.perf_counter()
 
-    simplices, neighbors = dc.compact(V, H, perm, idx)
+    simplices, neighbors = dc.compact(T, perm, idx)
     duplicate_of = dc.duplicates_to_input(rep, perm, idx)
     n_distinct = int(n - np.count_nonzero(rep != np.arange(n))) if n else 0
     degenerate, reason = False, ""
     if len(simplices):
-        hull = dc.hull_loop(V, H, ghost_out[out_ext[0, dc.XMIN]], perm, idx)
+        hull = dc.hull_loop(T, ghost_out[out_ext[0, dc.XMIN]], perm, idx)
     else:
         degenerate = True
         if left == 0:

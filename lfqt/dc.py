@@ -1,8 +1,10 @@
 """Dwyer-style divide and conquer on the LFQT (fqDel 3.2, 3.3).
 
-Data layout (Triangle's, in flat arrays): triangle ``t`` owns the half-edges
-``3t, 3t+1, 3t+2``; half-edge ``e`` runs from ``V[e]`` to ``V[next(e)]`` and
-``H[e]`` is its twin.  Vertex ids are positions in Morton order.  The convex
+Data layout (Triangle's, in one flat int array ``T``): triangle ``t`` owns
+the half-edges ``3t + i`` (i = 0, 1, 2) running from its vertex ``T[6t + i]``
+to vertex ``T[6t + (i+1)%3]``; ``T[6t + 3 + i]`` is the twin half-edge.
+Vertices and neighbours of a triangle share a cache line, which halves the
+misses of the pointer chasing in a merge.  Vertex ids are positions in Morton order.  The convex
 hull is wrapped in *ghost* triangles ``(a, b, GHOST)`` (hull edge ``b -> a``),
 always stored with the ghost vertex in slot 2, so every partition is a closed
 surface and a Guibas–Stolfi merge is nothing but:
@@ -25,7 +27,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .predicates import CCW_A, ICC_A, incircle, level_bounds, orient2d
+from .predicates import (C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2, C_ORIENT, C_ORIENT_S1,
+                         C_ORIENT_S2, CCW_A, ICC_A, incircle_staged, level_bounds,
+                         orient2d_staged)
 
 GHOST = -1
 UNUSED = -2
@@ -141,33 +145,33 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
 
 
 @njit(cache=True, inline="always")
-def _less(xs, ys, axis, a, b):
+def _less(P, axis, a, b):
     """Total order of distinct points: (x, y) for axis 0, (y, -x) for axis 1."""
     if axis == 0:
-        return xs[a] < xs[b] or (xs[a] == xs[b] and ys[a] < ys[b])
-    return ys[a] < ys[b] or (ys[a] == ys[b] and xs[a] > xs[b])
+        return P[a, 0] < P[b, 0] or (P[a, 0] == P[b, 0] and P[a, 1] < P[b, 1])
+    return P[a, 1] < P[b, 1] or (P[a, 1] == P[b, 1] and P[a, 0] > P[b, 0])
 
 
 @njit(cache=True)
-def _select(ids, lo, hi, k, xs, ys, axis):
+def _select(ids, lo, hi, k, P, axis):
     """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element)."""
     while hi - lo > 1:
         mid = (lo + hi) >> 1
         # median of three as pivot, moved to lo
         a, b, c = ids[lo], ids[mid], ids[hi - 1]
-        if _less(xs, ys, axis, b, a):
+        if _less(P, axis, b, a):
             a, b = b, a
-        if _less(xs, ys, axis, c, b):
+        if _less(P, axis, c, b):
             b, c = c, b
-            if _less(xs, ys, axis, b, a):
+            if _less(P, axis, b, a):
                 a, b = b, a
         pivot = b
         i = lo
         j = hi - 1
         while i <= j:
-            while _less(xs, ys, axis, ids[i], pivot):
+            while _less(P, axis, ids[i], pivot):
                 i += 1
-            while _less(xs, ys, axis, pivot, ids[j]):
+            while _less(P, axis, pivot, ids[j]):
                 j -= 1
             if i <= j:
                 t = ids[i]
@@ -184,11 +188,11 @@ def _select(ids, lo, hi, k, xs, ys, axis):
 
 
 @njit(cache=True)
-def subdivide_alternating(ids, xs, ys, ops):
+def subdivide_alternating(ids, P, ops):
     """Triangle's alternating median cuts over distinct vertices ``ids``:
     fill ``ops`` in post-order and return their count."""
     n = ids.shape[0]
-    _select(ids, 0, n, n >> 1, xs, ys, 0)
+    _select(ids, 0, n, n >> 1, P, 0)
     s_lo = np.empty(_STACK, dtype=np.int64)
     s_hi = np.empty(_STACK, dtype=np.int64)
     s_axis = np.empty(_STACK, dtype=np.int64)
@@ -212,8 +216,8 @@ def subdivide_alternating(ids, xs, ys, ops):
         child_axis = 1 - s_axis[top]
         if st == 0:
             # Each half is re-cut along the other axis before it is divided.
-            _select(ids, a, mid, a + ((mid - a) >> 1), xs, ys, child_axis)
-            _select(ids, mid, b, mid + ((b - mid) >> 1), xs, ys, child_axis)
+            _select(ids, a, mid, a + ((mid - a) >> 1), P, child_axis)
+            _select(ids, mid, b, mid + ((b - mid) >> 1), P, child_axis)
             s_state[top] = 1
             top += 1
             s_lo[top], s_hi[top], s_axis[top], s_state[top] = a, mid, child_axis, 0
@@ -243,26 +247,41 @@ def _prev(e):
 
 
 @njit(cache=True, inline="always")
-def _link(H, a, b):
-    H[a] = b
-    H[b] = a
+def _vert(T, e):
+    """Origin vertex of half-edge e."""
+    t = e // 3
+    return T[6 * t + e - 3 * t]
 
 
 @njit(cache=True, inline="always")
-def _set(V, t, a, b, c):
-    V[3 * t] = a
-    V[3 * t + 1] = b
-    V[3 * t + 2] = c
+def _twin(T, e):
+    t = e // 3
+    return T[6 * t + 3 + e - 3 * t]
 
 
 @njit(cache=True, inline="always")
-def _greater_xy(xs, ys, a, b):
-    return xs[a] > xs[b] or (xs[a] == xs[b] and ys[a] > ys[b])
+def _link(T, a, b):
+    ta = a // 3
+    tb = b // 3
+    T[6 * ta + 3 + a - 3 * ta] = b
+    T[6 * tb + 3 + b - 3 * tb] = a
 
 
 @njit(cache=True, inline="always")
-def _greater_yx(xs, ys, a, b):
-    return ys[a] > ys[b] or (ys[a] == ys[b] and xs[a] < xs[b])
+def _set(T, t, a, b, c):
+    T[6 * t] = a
+    T[6 * t + 1] = b
+    T[6 * t + 2] = c
+
+
+@njit(cache=True, inline="always")
+def _greater_xy(P, a, b):
+    return P[a, 0] > P[b, 0] or (P[a, 0] == P[b, 0] and P[a, 1] > P[b, 1])
+
+
+@njit(cache=True, inline="always")
+def _greater_yx(P, a, b):
+    return P[a, 1] > P[b, 1] or (P[a, 1] == P[b, 1] and P[a, 0] < P[b, 0])
 
 
 @njit(cache=True, inline="always")
@@ -274,200 +293,27 @@ def _binade(v, scale_exp, emin):
 
 
 @njit(cache=True)
-def merge(ext, top, single, slot, code, xs, ys, V, H, ghost_out, fmt,
-          level_filter, counters, work):
-    """Merge the partitions ext[top-1] (left/lower) and ext[top] (right/upper)
-    into ext[top-1].  ``fmt`` = (coord_bits, exp_bits, mant_bits, emin,
-    scale_exp) of the input format, for the level-dependent bounds."""
-    lt = top - 1
-    rt = top
-    if code >= ALT_X:
-        x_split = code == ALT_X
-        ccwb = CCW_A
-        iccb = ICC_A
-    else:
-        x_split = (code & 1) == 1
-        if level_filter:
-            probe = ext[lt, XMIN]
-            ex = _binade(xs[probe], fmt[4], fmt[3])
-            ey = _binade(ys[probe], fmt[4], fmt[3])
-            ccwb, iccb = level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
-        else:
-            ccwb = CCW_A
-            iccb = ICC_A
-    if x_split:
-        l = ext[lt, XMAX]
-        r = ext[rt, XMIN]
-    else:
-        l = ext[lt, YMAX]
-        r = ext[rt, YMIN]
-    l_single = single[lt]
-    r_single = single[rt]
-
-    # Lower common tangent.  gl = (l, cw(l), GHOST), gr = (ccw(r), r, GHOST).
-    gl = -1
-    gr = -1
-    if not l_single:
-        gl = H[3 * ghost_out[l] + 1] // 3
-    if not r_single:
-        gr = ghost_out[r]
-    while True:
-        if not l_single:
-            lp = V[3 * gl + 1]
-            if orient2d(xs[l], ys[l], xs[r], ys[r], xs[lp], ys[lp], ccwb, counters) < 0.0:
-                gl = H[3 * gl + 1] // 3
-                l = lp
-                continue
-        if not r_single:
-            rp = V[3 * gr]
-            if orient2d(xs[l], ys[l], xs[r], ys[r], xs[rp], ys[rp], ccwb, counters) < 0.0:
-                gr = H[3 * gr + 2] // 3
-                r = rp
-                continue
-        break
-
-    # Splice the ghost rings: A = (l, r, G) above the tangent, B below.
-    A = 2 * (slot - 1)
-    B = A + 1
-    _set(V, A, l, r, GHOST)
-    _set(V, B, r, l, GHOST)
-    _link(H, 3 * A, 3 * B)
-    if l_single:
-        _link(H, 3 * A + 2, 3 * B + 1)
-    else:
-        l_out = H[3 * gl + 2]
-        _link(H, 3 * A + 2, l_out)
-        _link(H, 3 * B + 1, 3 * gl + 2)
-    if r_single:
-        _link(H, 3 * A + 1, 3 * B + 2)
-    else:
-        r_in = H[3 * gr + 1]
-        _link(H, 3 * A + 1, r_in)
-        _link(H, 3 * B + 2, 3 * gr + 1)
-    l_bottom = l
-
-    # Rising bubble.
-    while True:
-        xl = xs[l]
-        yl = ys[l]
-        xr = xs[r]
-        yr = ys[r]
-        GL = H[3 * A + 2] // 3
-        lvalid = False
-        if GL != B:
-            lc = V[3 * GL]
-            lvalid = orient2d(xl, yl, xr, yr, xs[lc], ys[lc], ccwb, counters) > 0.0
-            while lvalid:
-                e = H[3 * GL]
-                x = V[_prev(e)]
-                if x == GHOST:
-                    break
-                if incircle(xl, yl, xr, yr, xs[lc], ys[lc], xs[x], ys[x],
-                            iccb, counters, work) <= 0.0:
-                    break
-                # (l, lc, x) is not Delaunay: flip l-lc with its ghost.
-                T = e // 3
-                t_lc_x = H[_next(e)]
-                t_x_l = H[_prev(e)]
-                g1 = H[3 * GL + 1]
-                g2 = H[3 * GL + 2]
-                _set(V, T, x, l, GHOST)
-                _set(V, GL, lc, x, GHOST)
-                _link(H, 3 * T, t_x_l)
-                _link(H, 3 * T + 1, g1)
-                _link(H, 3 * T + 2, 3 * GL + 1)
-                _link(H, 3 * GL, t_lc_x)
-                _link(H, 3 * GL + 2, g2)
-                GL = T
-                lc = x
-                lvalid = orient2d(xl, yl, xr, yr, xs[lc], ys[lc], ccwb, counters) > 0.0
-        GR = H[3 * A + 1] // 3
-        rvalid = False
-        if GR != B:
-            rc = V[3 * GR + 1]
-            rvalid = orient2d(xl, yl, xr, yr, xs[rc], ys[rc], ccwb, counters) > 0.0
-            while rvalid:
-                e = H[3 * GR]
-                x = V[_prev(e)]
-                if x == GHOST:
-                    break
-                if incircle(xl, yl, xr, yr, xs[rc], ys[rc], xs[x], ys[x],
-                            iccb, counters, work) <= 0.0:
-                    break
-                T = e // 3
-                t_r_x = H[_next(e)]
-                t_x_rc = H[_prev(e)]
-                g1 = H[3 * GR + 1]
-                g2 = H[3 * GR + 2]
-                _set(V, GR, r, x, GHOST)
-                _set(V, T, x, rc, GHOST)
-                _link(H, 3 * GR, t_r_x)
-                _link(H, 3 * GR + 1, 3 * T + 2)
-                _link(H, 3 * GR + 2, g2)
-                _link(H, 3 * T, t_x_rc)
-                _link(H, 3 * T + 1, g1)
-                rc = x
-                rvalid = orient2d(xl, yl, xr, yr, xs[rc], ys[rc], ccwb, counters) > 0.0
-        if not lvalid and not rvalid:
-            break
-        if not lvalid or (rvalid and incircle(xs[lc], ys[lc], xl, yl, xr, yr, xs[rc], ys[rc],
-                                               iccb, counters, work) > 0.0):
-            # cross edge l-rc: A and GR become (l, r, rc) and the new A
-            a0 = H[3 * A]
-            a2 = H[3 * A + 2]
-            g0 = H[3 * GR]
-            g1 = H[3 * GR + 1]
-            _set(V, A, l, r, rc)
-            _set(V, GR, l, rc, GHOST)
-            _link(H, 3 * A, a0)
-            _link(H, 3 * A + 1, g0)
-            _link(H, 3 * A + 2, 3 * GR)
-            _link(H, 3 * GR + 1, g1)
-            _link(H, 3 * GR + 2, a2)
-            A = GR
-            r = rc
-        else:
-            # cross edge lc-r: A and GL become (l, r, lc) and the new A
-            a0 = H[3 * A]
-            a1 = H[3 * A + 1]
-            g0 = H[3 * GL]
-            g2 = H[3 * GL + 2]
-            _set(V, A, l, r, lc)
-            _set(V, GL, lc, r, GHOST)
-            _link(H, 3 * A, a0)
-            _link(H, 3 * A + 1, 3 * GL)
-            _link(H, 3 * A + 2, g0)
-            _link(H, 3 * GL + 1, a1)
-            _link(H, 3 * GL + 2, g2)
-            A = GL
-            l = lc
-    ghost_out[l_bottom] = B
-    ghost_out[r] = A
-
-    # Extremes of the union.
-    if x_split:
-        ext[lt, XMAX] = ext[rt, XMAX]
-        if _greater_yx(xs, ys, ext[rt, YMAX], ext[lt, YMAX]):
-            ext[lt, YMAX] = ext[rt, YMAX]
-        if _greater_yx(xs, ys, ext[lt, YMIN], ext[rt, YMIN]):
-            ext[lt, YMIN] = ext[rt, YMIN]
-    else:
-        ext[lt, YMAX] = ext[rt, YMAX]
-        if _greater_xy(xs, ys, ext[rt, XMAX], ext[lt, XMAX]):
-            ext[lt, XMAX] = ext[rt, XMAX]
-        if _greater_xy(xs, ys, ext[lt, XMIN], ext[rt, XMIN]):
-            ext[lt, XMIN] = ext[rt, XMIN]
-    single[lt] = False
-
-
-@njit(cache=True)
-def run_ops(ops, op_lo, op_hi, xs, ys, V, H, ghost_out, fmt, level_filter,
-            counters, work, out_ext, out_single):
+def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
+            out_ext, out_single):
     """Execute ops[op_lo:op_hi] on a partition stack; the partitions left on
-    the stack (one for a whole subtree) are written to out_ext/out_single.
-    Returns how many were left."""
+    the stack (one for a whole subtree) are written to out_ext/out_single
+    and their number returned.
+
+    A merge joins the partitions ext[top-1] (left/lower) and ext[top]
+    (right/upper) into ext[top-1].  ``fmt`` = (coord_bits, exp_bits,
+    mant_bits, emin, scale_exp) of the input format, for the level-dependent
+    bounds.  The merge is written inline in this loop on purpose: passing the
+    arrays to a helper per merge or per predicate costs numba an atomic
+    reference-count update each time, a third of the run time.
+    """
     ext = np.empty((_STACK, 4), dtype=np.int64)
     single = np.empty(_STACK, dtype=np.bool_)
+    n_orient = 0  # calls
+    s_orient = 0  # sum of deciding stages (0, 1, 2)
+    s2_orient = 0  # calls decided by the exact stage
+    n_incircle = 0
+    s_incircle = 0
+    s2_incircle = 0
     top = -1
     for k in range(op_lo, op_hi):
         op = ops[k]
@@ -480,9 +326,230 @@ def run_ops(ops, op_lo, op_hi, xs, ys, V, H, ghost_out, fmt, level_filter,
             ext[top, 3] = v
             single[top] = True
         else:
-            merge(ext, top, single, op >> 8, op & 255, xs, ys, V, H, ghost_out,
-                  fmt, level_filter, counters, work)
+            slot = op >> 8
+            code = op & 255
+            lt = top - 1
+            rt = top
+            if code >= ALT_X:
+                x_split = code == ALT_X
+                ccwb = CCW_A
+                iccb = ICC_A
+            else:
+                x_split = (code & 1) == 1
+                if level_filter:
+                    probe = ext[lt, XMIN]
+                    ex = _binade(P[probe, 0], fmt[4], fmt[3])
+                    ey = _binade(P[probe, 1], fmt[4], fmt[3])
+                    ccwb, iccb = level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
+                else:
+                    ccwb = CCW_A
+                    iccb = ICC_A
+            if x_split:
+                l = ext[lt, XMAX]
+                r = ext[rt, XMIN]
+            else:
+                l = ext[lt, YMAX]
+                r = ext[rt, YMIN]
+            l_single = single[lt]
+            r_single = single[rt]
+
+            # Lower common tangent.  gl = (l, cw(l), GHOST), gr = (ccw(r), r, GHOST).
+            gl = -1
+            gr = -1
+            if not l_single:
+                gl = T[6 * ghost_out[l] + 4] // 3
+            if not r_single:
+                gr = ghost_out[r]
+            while True:
+                if not l_single:
+                    lp = T[6 * gl + 1]
+                    o, st = orient2d_staged(P[l, 0], P[l, 1], P[r, 0], P[r, 1], P[lp, 0], P[lp, 1], ccwb)
+                    n_orient += 1
+                    s_orient += st
+                    s2_orient += st >> 1
+                    if o < 0.0:
+                        gl = T[6 * gl + 4] // 3
+                        l = lp
+                        continue
+                if not r_single:
+                    rp = T[6 * gr]
+                    o, st = orient2d_staged(P[l, 0], P[l, 1], P[r, 0], P[r, 1], P[rp, 0], P[rp, 1], ccwb)
+                    n_orient += 1
+                    s_orient += st
+                    s2_orient += st >> 1
+                    if o < 0.0:
+                        gr = T[6 * gr + 5] // 3
+                        r = rp
+                        continue
+                break
+
+            # Splice the ghost rings: A = (l, r, G) above the tangent, B below.
+            A = 2 * (slot - 1)
+            B = A + 1
+            _set(T, A, l, r, GHOST)
+            _set(T, B, r, l, GHOST)
+            _link(T, 3 * A, 3 * B)
+            if l_single:
+                _link(T, 3 * A + 2, 3 * B + 1)
+            else:
+                l_out = T[6 * gl + 5]
+                _link(T, 3 * A + 2, l_out)
+                _link(T, 3 * B + 1, 3 * gl + 2)
+            if r_single:
+                _link(T, 3 * A + 1, 3 * B + 2)
+            else:
+                r_in = T[6 * gr + 4]
+                _link(T, 3 * A + 1, r_in)
+                _link(T, 3 * B + 2, 3 * gr + 1)
+            l_bottom = l
+
+            # Rising bubble.
+            while True:
+                xl = P[l, 0]
+                yl = P[l, 1]
+                xr = P[r, 0]
+                yr = P[r, 1]
+                GL = T[6 * A + 5] // 3
+                lvalid = False
+                if GL != B:
+                    lc = T[6 * GL]
+                    o, st = orient2d_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], ccwb)
+                    n_orient += 1
+                    s_orient += st
+                    s2_orient += st >> 1
+                    lvalid = o > 0.0
+                    while lvalid:
+                        e = T[6 * GL + 3]
+                        x = _vert(T, _prev(e))
+                        if x == GHOST:
+                            break
+                        ic, st = incircle_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], P[x, 0], P[x, 1], iccb)
+                        n_incircle += 1
+                        s_incircle += st
+                        s2_incircle += st >> 1
+                        if ic <= 0.0:
+                            break
+                        # (l, lc, x) is not Delaunay: flip l-lc with its ghost.
+                        tt = e // 3
+                        t_lc_x = _twin(T, _next(e))
+                        t_x_l = _twin(T, _prev(e))
+                        g1 = T[6 * GL + 4]
+                        g2 = T[6 * GL + 5]
+                        _set(T, tt, x, l, GHOST)
+                        _set(T, GL, lc, x, GHOST)
+                        _link(T, 3 * tt, t_x_l)
+                        _link(T, 3 * tt + 1, g1)
+                        _link(T, 3 * tt + 2, 3 * GL + 1)
+                        _link(T, 3 * GL, t_lc_x)
+                        _link(T, 3 * GL + 2, g2)
+                        GL = tt
+                        lc = x
+                        o, st = orient2d_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], ccwb)
+                        n_orient += 1
+                        s_orient += st
+                        s2_orient += st >> 1
+                        lvalid = o > 0.0
+                GR = T[6 * A + 4] // 3
+                rvalid = False
+                if GR != B:
+                    rc = T[6 * GR + 1]
+                    o, st = orient2d_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], ccwb)
+                    n_orient += 1
+                    s_orient += st
+                    s2_orient += st >> 1
+                    rvalid = o > 0.0
+                    while rvalid:
+                        e = T[6 * GR + 3]
+                        x = _vert(T, _prev(e))
+                        if x == GHOST:
+                            break
+                        ic, st = incircle_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], P[x, 0], P[x, 1], iccb)
+                        n_incircle += 1
+                        s_incircle += st
+                        s2_incircle += st >> 1
+                        if ic <= 0.0:
+                            break
+                        tt = e // 3
+                        t_r_x = _twin(T, _next(e))
+                        t_x_rc = _twin(T, _prev(e))
+                        g1 = T[6 * GR + 4]
+                        g2 = T[6 * GR + 5]
+                        _set(T, GR, r, x, GHOST)
+                        _set(T, tt, x, rc, GHOST)
+                        _link(T, 3 * GR, t_r_x)
+                        _link(T, 3 * GR + 1, 3 * tt + 2)
+                        _link(T, 3 * GR + 2, g2)
+                        _link(T, 3 * tt, t_x_rc)
+                        _link(T, 3 * tt + 1, g1)
+                        rc = x
+                        o, st = orient2d_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], ccwb)
+                        n_orient += 1
+                        s_orient += st
+                        s2_orient += st >> 1
+                        rvalid = o > 0.0
+                if not lvalid and not rvalid:
+                    break
+                choose_right = not lvalid
+                if lvalid and rvalid:
+                    ic, st = incircle_staged(P[lc, 0], P[lc, 1], xl, yl, xr, yr, P[rc, 0], P[rc, 1], iccb)
+                    n_incircle += 1
+                    s_incircle += st
+                    s2_incircle += st >> 1
+                    choose_right = ic > 0.0
+                if choose_right:
+                    # cross edge l-rc: A and GR become (l, r, rc) and the new A
+                    a0 = T[6 * A + 3]
+                    a2 = T[6 * A + 5]
+                    g0 = T[6 * GR + 3]
+                    g1 = T[6 * GR + 4]
+                    _set(T, A, l, r, rc)
+                    _set(T, GR, l, rc, GHOST)
+                    _link(T, 3 * A, a0)
+                    _link(T, 3 * A + 1, g0)
+                    _link(T, 3 * A + 2, 3 * GR)
+                    _link(T, 3 * GR + 1, g1)
+                    _link(T, 3 * GR + 2, a2)
+                    A = GR
+                    r = rc
+                else:
+                    # cross edge lc-r: A and GL become (l, r, lc) and the new A
+                    a0 = T[6 * A + 3]
+                    a1 = T[6 * A + 4]
+                    g0 = T[6 * GL + 3]
+                    g2 = T[6 * GL + 5]
+                    _set(T, A, l, r, lc)
+                    _set(T, GL, lc, r, GHOST)
+                    _link(T, 3 * A, a0)
+                    _link(T, 3 * A + 1, 3 * GL)
+                    _link(T, 3 * A + 2, g0)
+                    _link(T, 3 * GL + 1, a1)
+                    _link(T, 3 * GL + 2, g2)
+                    A = GL
+                    l = lc
+            ghost_out[l_bottom] = B
+            ghost_out[r] = A
+
+            # Extremes of the union.
+            if x_split:
+                ext[lt, XMAX] = ext[rt, XMAX]
+                if _greater_yx(P, ext[rt, YMAX], ext[lt, YMAX]):
+                    ext[lt, YMAX] = ext[rt, YMAX]
+                if _greater_yx(P, ext[lt, YMIN], ext[rt, YMIN]):
+                    ext[lt, YMIN] = ext[rt, YMIN]
+            else:
+                ext[lt, YMAX] = ext[rt, YMAX]
+                if _greater_xy(P, ext[rt, XMAX], ext[lt, XMAX]):
+                    ext[lt, XMAX] = ext[rt, XMAX]
+                if _greater_xy(P, ext[lt, XMIN], ext[rt, XMIN]):
+                    ext[lt, XMIN] = ext[rt, XMIN]
+            single[lt] = False
             top -= 1
+    counters[C_ORIENT] += n_orient
+    counters[C_ORIENT_S1] += s_orient - s2_orient
+    counters[C_ORIENT_S2] += s2_orient
+    counters[C_INCIRCLE] += n_incircle
+    counters[C_INCIRCLE_S1] += s_incircle - s2_incircle
+    counters[C_INCIRCLE_S2] += s2_incircle
     for i in range(top + 1):
         for j in range(4):
             out_ext[i, j] = ext[i, j]
@@ -495,14 +562,14 @@ def run_ops(ops, op_lo, op_hi, xs, ys, V, H, ghost_out, fmt, level_filter,
 
 
 @njit(cache=True)
-def compact(V, H, perm, index_sample):
+def compact(T, perm, index_sample):
     """Real triangles as (simplices, neighbors) in input indices; neighbor i
     is opposite vertex i, -1 on the hull."""
-    nslots = V.shape[0] // 3
+    nslots = T.shape[0] // 6
     newid = np.full(nslots, -1, dtype=index_sample.dtype)
     m = 0
     for t in range(nslots):
-        if V[3 * t] >= 0 and V[3 * t + 1] >= 0 and V[3 * t + 2] >= 0:
+        if T[6 * t] >= 0 and T[6 * t + 1] >= 0 and T[6 * t + 2] >= 0:
             newid[t] = m
             m += 1
     simplices = np.empty((m, 3), dtype=index_sample.dtype)
@@ -512,42 +579,42 @@ def compact(V, H, perm, index_sample):
         if k < 0:
             continue
         for i in range(3):
-            simplices[k, i] = perm[V[3 * t + i]]
+            simplices[k, i] = perm[T[6 * t + i]]
             # edge opposite vertex i starts at vertex i+1
-            neighbors[k, i] = newid[H[3 * t + (i + 1) % 3] // 3]
+            neighbors[k, i] = newid[T[6 * t + 3 + (i + 1) % 3] // 3]
     return simplices, neighbors
 
 
 @njit(cache=True)
-def hull_loop(V, H, start_ghost, perm, index_sample):
+def hull_loop(T, start_ghost, perm, index_sample):
     """Counter-clockwise hull vertices (input indices) by walking the ghost
     ring from ``start_ghost``."""
     count = 0
     g = start_ghost
     while True:
         count += 1
-        g = H[3 * g + 2] // 3
+        g = T[6 * g + 5] // 3
         if g == start_ghost:
             break
     out = np.empty(count, dtype=index_sample.dtype)
     g = start_ghost
     for i in range(count):
-        out[i] = perm[V[3 * g + 1]]
-        g = H[3 * g + 2] // 3
+        out[i] = perm[T[6 * g + 1]]
+        g = T[6 * g + 5] // 3
     return out
 
 
 @njit(cache=True)
 def gather_sorted(x, y, perm, scale):
-    """Coordinates in Morton order as float64, times an exact power of two."""
+    """Coordinates in Morton order as an (n, 2) float64 array, times an exact
+    power of two; x and y of a point share a cache line."""
     n = perm.shape[0]
-    xs = np.empty(n, dtype=np.float64)
-    ys = np.empty(n, dtype=np.float64)
+    P = np.empty((n, 2), dtype=np.float64)
     for i in range(n):
         j = perm[i]
-        xs[i] = np.float64(x[j]) * scale
-        ys[i] = np.float64(y[j]) * scale
-    return xs, ys
+        P[i, 0] = np.float64(x[j]) * scale
+        P[i, 1] = np.float64(y[j]) * scale
+    return P
 
 
 @njit(cache=True)

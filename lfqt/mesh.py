@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from .predicates import CCW_A, ICC_A, N_COUNTERS, WORK_SIZE, incircle, orient2d
+from .predicates import CCW_A, ICC_A, N_COUNTERS, incircle, orient2d
 
 
 @dataclass
@@ -86,7 +86,6 @@ def _check_mesh(xs, ys, simplices, neighbors, n):
     n_boundary, loop_start)."""
     m = simplices.shape[0]
     cnt = np.zeros(N_COUNTERS, dtype=np.int64)
-    work = np.empty(WORK_SIZE)
     bad_orient = 0
     first_bad = -1
     for t in range(m):
@@ -184,7 +183,7 @@ def _check_mesh(xs, ys, simplices, neighbors, n):
                         d = v
                 c = simplices[t, i]
                 if d >= 0 and incircle(xs[a], ys[a], xs[b], ys[b], xs[c], ys[c], xs[d], ys[d],
-                                       ICC_A, cnt, work) > 0.0:
+                                       ICC_A, cnt) > 0.0:
                     not_delaunay += 1
                     if first_bad < 0:
                         first_bad = t

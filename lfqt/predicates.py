@@ -35,7 +35,7 @@ C_ORIENT, C_ORIENT_S1, C_ORIENT_S2, C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2 = r
 N_COUNTERS = 6
 COUNTER_NAMES = ("orient", "orient_stage1_undecided", "orient_stage2_undecided",
                  "incircle", "incircle_stage1_undecided", "incircle_stage2_undecided")
-WORK_SIZE = 512  # doubles of scratch space needed by incircle's stage B
+WORK_SIZE = 512  # doubles of scratch space of incircle's stage B
 
 
 @njit(cache=True, inline="always")
@@ -231,10 +231,12 @@ def _sign4(x3, x2, x1, x0):
     return 0.0
 
 
-@njit(cache=True)
-def orient2d(ax, ay, bx, by, cx, cy, bound, counters):
-    """> 0 when a, b, c turn counter-clockwise, < 0 clockwise, 0 collinear."""
-    counters[C_ORIENT] += 1
+@njit(cache=True, inline="always")
+def orient2d_staged(ax, ay, bx, by, cx, cy, bound):
+    """(value, stage): value > 0 when a, b, c turn counter-clockwise, < 0
+    clockwise, 0 collinear; stage is 0, 1 or 2 for the stage that decided.
+    Scalars only: an array argument on this hot path would cost an atomic
+    reference-count update per call."""
     acx = ax - cx
     bcx = bx - cx
     acy = ay - cy
@@ -242,21 +244,33 @@ def orient2d(ax, ay, bx, by, cx, cy, bound, counters):
     detleft = acx * bcy
     detright = acy * bcx
     det = detleft - detright
-    # Opposite signs (or a zero product) cannot be flipped by rounding.
-    if detleft > 0.0:
-        if detright <= 0.0:
-            return det
-        detsum = detleft + detright
-    elif detleft < 0.0:
-        if detright >= 0.0:
-            return det
-        detsum = -detleft - detright
-    else:
-        return det
-    errbound = bound * detsum
-    if det >= errbound or -det >= errbound:
-        return det
-    counters[C_ORIENT_S1] += 1
+    # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
+    # random input and cost more than they save.
+    detsum = abs(detleft) + abs(detright)
+    if abs(det) >= bound * detsum:
+        return det, 0
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
+
+
+@njit(cache=True, inline="always")
+def orient2d(ax, ay, bx, by, cx, cy, bound, counters):
+    """orient2d_staged, counting calls and undecided stages in ``counters``."""
+    det, stage = orient2d_staged(ax, ay, bx, by, cx, cy, bound)
+    counters[C_ORIENT] += 1
+    if stage > 0:
+        counters[C_ORIENT_S1] += 1
+        if stage > 1:
+            counters[C_ORIENT_S2] += 1
+    return det
+
+
+@njit(cache=True)
+def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
+    """Stages 2 and 3 of orient2d: (sign-exact value, deciding stage)."""
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
     # Stage B: exact determinant of the rounded differences.
     l1, l0 = two_product(acx, bcy)
     r1, r0 = two_product(acy, bcx)
@@ -268,13 +282,11 @@ def orient2d(ax, ay, bx, by, cx, cy, bound, counters):
     tails_zero = (two_diff(ax, cx)[1] == 0.0 and two_diff(bx, cx)[1] == 0.0
                   and two_diff(ay, cy)[1] == 0.0 and two_diff(by, cy)[1] == 0.0)
     if tails_zero:
-        return _sign4(x3, x2, x1b, x0)
+        return _sign4(x3, x2, x1b, x0), 1
     est = x3 + x2 + x1b + x0
-    errbound = CCW_B * detsum
-    if est >= errbound or -est >= errbound:
-        return est
-    counters[C_ORIENT_S2] += 1
-    return orient2d_exact(ax, ay, bx, by, cx, cy)
+    if abs(est) >= CCW_B * detsum:
+        return est, 1
+    return orient2d_exact(ax, ay, bx, by, cx, cy), 2
 
 
 @njit(cache=True)
@@ -303,11 +315,10 @@ def _lifted_term(px, py, ux, uy, vx, vy, work, base):
     return expansion_sum(t16a, na, t16b, nb, work[base: base + 32])
 
 
-@njit(cache=True)
-def incircle(ax, ay, bx, by, cx, cy, dx, dy, bound, counters, work):
-    """> 0 when d lies inside the circle through a, b, c (counter-clockwise),
-    < 0 outside, 0 on it.  ``work`` is scratch of at least WORK_SIZE doubles."""
-    counters[C_INCIRCLE] += 1
+@njit(cache=True, inline="always")
+def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound):
+    """(value, stage): value > 0 when d lies inside the circle through a, b, c
+    (counter-clockwise), < 0 outside, 0 on it; stage as in orient2d_staged."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -328,10 +339,33 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy, bound, counters, work):
     permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
                  + (abs(cdxady) + abs(adxcdy)) * blift
                  + (abs(adxbdy) + abs(bdxady)) * clift)
-    errbound = bound * permanent
-    if det > errbound or -det > errbound:
-        return det
-    counters[C_INCIRCLE_S1] += 1
+    if abs(det) > bound * permanent:
+        return det, 0
+    return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+
+
+@njit(cache=True, inline="always")
+def incircle(ax, ay, bx, by, cx, cy, dx, dy, bound, counters):
+    """incircle_staged, counting calls and undecided stages in ``counters``."""
+    det, stage = incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound)
+    counters[C_INCIRCLE] += 1
+    if stage > 0:
+        counters[C_INCIRCLE_S1] += 1
+        if stage > 1:
+            counters[C_INCIRCLE_S2] += 1
+    return det
+
+
+@njit(cache=True)
+def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
+    """Stages 2 and 3 of incircle: (sign-exact value, deciding stage)."""
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    work = np.empty(WORK_SIZE)
     # Stage B: exact determinant of the rounded differences.
     na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
     nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
@@ -344,15 +378,13 @@ def incircle(ax, ay, bx, by, cx, cy, dx, dy, bound, counters, work):
                   and two_diff(cx, dx)[1] == 0.0 and two_diff(ay, dy)[1] == 0.0
                   and two_diff(by, dy)[1] == 0.0 and two_diff(cy, dy)[1] == 0.0)
     if tails_zero:
-        return _expansion_sign(fin, nfin)
+        return _expansion_sign(fin, nfin), 1
     est = 0.0
     for i in range(nfin):
         est += fin[i]
-    errbound = ICC_B * permanent
-    if est >= errbound or -est >= errbound:
-        return est
-    counters[C_INCIRCLE_S2] += 1
-    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+    if abs(est) >= ICC_B * permanent:
+        return est, 1
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
 
 
 @njit(cache=True)
@@ -393,7 +425,3 @@ def level_bounds(level, coord_bits, exp_bits, mant_bits, ex, ey):
 
 def new_counters():
     return np.zeros(N_COUNTERS, dtype=np.int64)
-
-
-def new_work():
-    return np.empty(WORK_SIZE, dtype=np.float64)

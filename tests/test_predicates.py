@@ -54,7 +54,7 @@ def orient(a, b, c, bound=P.CCW_A):
 
 def incircle(a, b, c, d, bound=P.ICC_A):
     a, b, c, d = in_window(a, b, c, d)
-    return sign(P.incircle(*a, *b, *c, *d, bound, P.new_counters(), P.new_work()))
+    return sign(P.incircle(*a, *b, *c, *d, bound, P.new_counters()))
 
 
 @st.composite
@@ -126,7 +126,7 @@ def test_incircle_symmetry(a, b, c, d):
 def test_integer_cocircular_decided_exactly():
     # Unit square corners are cocircular; stage 1 cannot decide, stage 2 must give 0.
     cnt = P.new_counters()
-    v = P.incircle(0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, P.ICC_A, cnt, P.new_work())
+    v = P.incircle(0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, P.ICC_A, cnt)
     assert v == 0.0
     assert cnt[P.C_INCIRCLE_S1] == 1 and cnt[P.C_INCIRCLE_S2] == 0
 
@@ -188,10 +188,10 @@ def test_level_bounds_are_sound(sample):
     assert ccw <= P.CCW_A and icc <= P.ICC_A
     a, b, c, d = [(float(xs[i]), float(ys[i])) for i in range(4)]
     original = [(float(x[i]), float(y[i])) for i in range(4)]
-    cnt, work = P.new_counters(), P.new_work()
+    cnt = P.new_counters()
     assert sign(P.orient2d(*a, *b, *c, ccw, cnt)) == orient_ref(*original[:3])
     if orient_ref(*original[:3]) != 0:
-        assert sign(P.incircle(*a, *b, *c, *d, icc, cnt, work)) == incircle_ref(*original)
+        assert sign(P.incircle(*a, *b, *c, *d, icc, cnt)) == incircle_ref(*original)
 
 
 def test_level_bounds_tighten_below_the_exponent_bits():
