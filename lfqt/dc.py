@@ -145,11 +145,11 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
 
 
 @njit(cache=True, inline="always")
-def _less(P, axis, a, b):
+def _less(ax, ay, bx, by, axis):
     """Total order of distinct points: (x, y) for axis 0, (y, -x) for axis 1."""
     if axis == 0:
-        return P[a, 0] < P[b, 0] or (P[a, 0] == P[b, 0] and P[a, 1] < P[b, 1])
-    return P[a, 1] < P[b, 1] or (P[a, 1] == P[b, 1] and P[a, 0] > P[b, 0])
+        return ax < bx or (ax == bx and ay < by)
+    return ay < by or (ay == by and ax > bx)
 
 
 @njit(cache=True)
@@ -157,21 +157,22 @@ def _select(ids, lo, hi, k, P, axis):
     """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element)."""
     while hi - lo > 1:
         mid = (lo + hi) >> 1
-        # median of three as pivot, moved to lo
+        # median of three as pivot
         a, b, c = ids[lo], ids[mid], ids[hi - 1]
-        if _less(P, axis, b, a):
+        if _less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
             a, b = b, a
-        if _less(P, axis, c, b):
+        if _less(P[c, 0], P[c, 1], P[b, 0], P[b, 1], axis):
             b, c = c, b
-            if _less(P, axis, b, a):
+            if _less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
                 a, b = b, a
-        pivot = b
+        px = P[b, 0]
+        py = P[b, 1]
         i = lo
         j = hi - 1
         while i <= j:
-            while _less(P, axis, ids[i], pivot):
+            while _less(P[ids[i], 0], P[ids[i], 1], px, py, axis):
                 i += 1
-            while _less(P, axis, pivot, ids[j]):
+            while _less(px, py, P[ids[j], 0], P[ids[j], 1], axis):
                 j -= 1
             if i <= j:
                 t = ids[i]
@@ -272,16 +273,6 @@ def _set(T, t, a, b, c):
     T[6 * t] = a
     T[6 * t + 1] = b
     T[6 * t + 2] = c
-
-
-@njit(cache=True, inline="always")
-def _greater_xy(P, a, b):
-    return P[a, 0] > P[b, 0] or (P[a, 0] == P[b, 0] and P[a, 1] > P[b, 1])
-
-
-@njit(cache=True, inline="always")
-def _greater_yx(P, a, b):
-    return P[a, 1] > P[b, 1] or (P[a, 1] == P[b, 1] and P[a, 0] < P[b, 0])
 
 
 @njit(cache=True, inline="always")
@@ -529,19 +520,21 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
             ghost_out[l_bottom] = B
             ghost_out[r] = A
 
-            # Extremes of the union.
+            # Extremes of the union: one side's by construction, else the larger.
             if x_split:
                 ext[lt, XMAX] = ext[rt, XMAX]
-                if _greater_yx(P, ext[rt, YMAX], ext[lt, YMAX]):
-                    ext[lt, YMAX] = ext[rt, YMAX]
-                if _greater_yx(P, ext[lt, YMIN], ext[rt, YMIN]):
-                    ext[lt, YMIN] = ext[rt, YMIN]
+                keep_max, keep_min, order = YMAX, YMIN, 1
             else:
                 ext[lt, YMAX] = ext[rt, YMAX]
-                if _greater_xy(P, ext[rt, XMAX], ext[lt, XMAX]):
-                    ext[lt, XMAX] = ext[rt, XMAX]
-                if _greater_xy(P, ext[lt, XMIN], ext[rt, XMIN]):
-                    ext[lt, XMIN] = ext[rt, XMIN]
+                keep_max, keep_min, order = XMAX, XMIN, 0
+            a = ext[lt, keep_max]
+            b = ext[rt, keep_max]
+            if _less(P[a, 0], P[a, 1], P[b, 0], P[b, 1], order):
+                ext[lt, keep_max] = b
+            a = ext[lt, keep_min]
+            b = ext[rt, keep_min]
+            if _less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], order):
+                ext[lt, keep_min] = b
             single[lt] = False
             top -= 1
     counters[C_ORIENT] += n_orient
