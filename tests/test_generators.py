@@ -1,0 +1,123 @@
+import hashlib
+
+import numpy as np
+import pytest
+
+import generators
+from generators import cache as gcache
+
+ALL = list(generators.REGISTRY)
+
+
+@pytest.fixture(autouse=True)
+def private_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("LFQT_CACHE_DIR", str(tmp_path / "cache"))
+
+
+def digest(a):
+    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+
+
+@pytest.mark.parametrize("name", ALL)
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_shape_dtype_determinism_and_finiteness(name, dtype):
+    a = generators.make(name, 2000, seed=3, dtype=dtype)
+    b = generators.make(name, 2000, seed=3, dtype=dtype)
+    c = generators.make(name, 2000, seed=4, dtype=dtype)
+    dim = generators.get(name).dim
+    assert a.shape == (2000, dim) and a.dtype == np.dtype(dtype)
+    assert digest(a) == digest(b) and digest(a) != digest(c)
+    assert np.isfinite(a).all()
+
+
+@pytest.mark.parametrize("name", [n for n in ALL if generators.get(n).duplicates == "none"])
+def test_no_duplicates_unless_the_set_means_them(name):
+    a = generators.make(name, 20000, seed=1, dtype="float32")
+    assert len(np.unique(a, axis=0)) == len(a)
+
+
+def test_redraw_removes_rounding_duplicates():
+    # float32 in [0, 2**-20) has few values: duplicates are certain before redraw
+    dist = generators.Distribution("tiny", 2, lambda rng, n: rng.random((n, 2)) * 2.0 ** -136, "test")
+    out = generators._redraw_duplicates(dist, np.random.default_rng(0), dist.draw(np.random.default_rng(0), 3000),
+                                        np.float32)
+    assert len(np.unique(out, axis=0)) == 3000
+
+
+def test_first_quadrant_and_centred_sets():
+    for name in ("uniform", "grid", "cluster"):
+        assert (generators.make(name, 5000) >= 0).all(), name
+    circle = generators.make("circle", 20000)
+    assert np.abs(circle.mean(axis=0)).max() < 0.01
+    spiral = generators.make("spiral", 20000)
+    assert np.hypot(*spiral.T).min() < 0.01  # it starts at the origin
+    assert (spiral.min(axis=0) < -0.8).all() and (spiral.max(axis=0) > 0.8).all()
+
+
+def test_grid_is_square_integer():
+    pts = generators.make("grid", 10000)
+    assert np.array_equal(pts, np.round(pts))
+    assert pts.max(axis=0).tolist() == [99, 99] and len(np.unique(pts, axis=0)) == 10000
+
+
+def test_circle_radius_and_unit_sets():
+    r = np.hypot(*generators.make("circle", 1000).T)
+    assert np.allclose(r, 0.45, rtol=1e-12)
+    cube = generators.make("cube", 1000)
+    assert cube.min() >= 0 and cube.max() < 1
+    axes = generators.make("axes", 3000)
+    assert (np.sort(np.abs(axes), axis=1)[:, 1] < 0.01).all()  # two coordinates near 0
+
+
+def test_standins_have_published_default_sizes():
+    assert generators.get("statue-standin").default_n == 543_652
+    assert generators.get("constrained-cube-standin").default_n == 4_386_533
+    assert generators.get("refined-cube-standin").default_n == 5_500_000
+    assert generators.get("gearbox-standin").default_n == 3_204_652
+    assert all("stand-in" in generators.get(n).source for n in ALL if n.endswith("standin"))
+
+
+def test_unknown_name_and_bad_dtype():
+    with pytest.raises(ValueError, match="unknown distribution"):
+        generators.make("torus", 10)
+    with pytest.raises(ValueError, match="dtype"):
+        generators.make("uniform", 10, dtype="float16")
+
+
+def test_cache_hit_miss_and_corruption(tmp_path):
+    calls = []
+
+    def build():
+        calls.append(1)
+        return np.arange(12.0).reshape(6, 2)
+
+    a = np.array(gcache.cached("k", build))
+    b = gcache.cached("k", build)
+    assert len(calls) == 1 and np.array_equal(a, b)
+    assert isinstance(b, np.memmap) and not b.flags.writeable
+    path = gcache.cache_dir() / "k.npy"
+    path.write_bytes(b"garbage")
+    c = gcache.cached("k", build)
+    assert len(calls) == 2 and np.array_equal(c, a)
+    assert not list(gcache.cache_dir().glob("*.tmp"))
+
+
+def test_make_caches_large_sets(monkeypatch):
+    monkeypatch.setattr(generators, "CACHE_MIN_POINTS", 1000)
+    a = generators.make("uniform", 1500, seed=9)
+    files = list(gcache.cache_dir().glob("uniform-n1500-s9-float64-*.npy"))
+    assert len(files) == 1 and isinstance(a, np.memmap)
+    assert np.array_equal(a, generators.generate("uniform", 1500, seed=9))
+
+
+def test_cli_writes_file(tmp_path):
+    from generators.__main__ import main
+    out = tmp_path / "p.npy"
+    assert main(["spiral", "500", "--seed", "2", "--dtype", "float32", "--out", str(out)]) == 0
+    assert np.array_equal(np.load(out), generators.make("spiral", 500, seed=2, dtype="float32"))
+
+
+def test_gallery_draws_every_set(tmp_path):
+    from generators.gallery import draw
+    paths = draw(tmp_path, n=300)
+    assert all(p.exists() and p.stat().st_size > 10000 for p in paths)
