@@ -1,0 +1,43 @@
+"""Peers behind one interface, in one registry.  An experiment names peers
+only by registry key; ``make(name)`` returns a fresh instance."""
+from .base import Peer, Result, Unavailable
+from .isolate import Failure, Measurement, measure, measure_isolated
+from .peers import CgalPeer, LfqtDC, QhullPeer, TrianglePeer
+
+REGISTRY = {
+    "lfqt-dc": lambda: LfqtDC("lfqt"),
+    "lfqt-dc-alternating": lambda: LfqtDC("alternating"),
+    "triangle": lambda: TrianglePeer(""),
+    "triangle-incremental": lambda: TrianglePeer("i"),
+    "triangle-sweepline": lambda: TrianglePeer("F"),
+    "qhull-2d": lambda: QhullPeer(2),
+    "qhull-3d": lambda: QhullPeer(3),
+    "cgal-dt2": lambda: CgalPeer("dt2"),
+    "cgal-dt3": lambda: CgalPeer("dt3"),
+    "cgal-dt2-order": lambda: CgalPeer("dt2-order"),
+    "cgal-dt3-order": lambda: CgalPeer("dt3-order"),
+}
+
+
+def make(name):
+    try:
+        return REGISTRY[name]()
+    except KeyError:
+        raise ValueError(f"unknown peer {name!r}; known: {', '.join(REGISTRY)}") from None
+
+
+def names(dim=None):
+    return [k for k in REGISTRY if dim is None or make(k).dim == dim]
+
+
+def available(name):
+    """(True, "") or (False, reason)."""
+    try:
+        make(name).check()
+        return True, ""
+    except Unavailable as e:
+        return False, str(e)
+
+
+__all__ = ["Peer", "Result", "Unavailable", "Failure", "Measurement", "measure",
+           "measure_isolated", "REGISTRY", "make", "names", "available"]

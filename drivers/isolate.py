@@ -1,0 +1,113 @@
+"""Measure a peer, in this process or in a child with time and memory limits.
+
+A crash, a timeout, running out of memory or an exception in the child come
+back as a :class:`Failure` with the reason, so that a sweep goes on (paper 1
+reports Triangle failing at 100M points; we must be able to report that).
+"""
+import faulthandler
+import multiprocessing as mp
+import resource
+import signal
+import time
+import traceback
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Measurement:
+    seconds: list  # one per repeat, warm-up excluded
+    cycles: list  # peer's own cycle counts per repeat (None where it has none)
+    counts: dict = field(default_factory=dict)
+    peak_rss_bytes: int = 0
+    version: str = ""
+    simplices: object = None
+
+    @property
+    def ok(self):
+        return True
+
+
+@dataclass
+class Failure:
+    reason: str
+    detail: str = ""
+
+    @property
+    def ok(self):
+        return False
+
+
+def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,
+            warmup=True):
+    """Prepare once, warm up (not counted), then time ``repeats`` runs."""
+    peer.check()
+    peer.prepare(points, order=order, count=count)
+    if warmup:
+        peer.run()
+    seconds, cycles = [], []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        peer.run()
+        wall = time.perf_counter() - t0
+        own = peer.self_timing()
+        seconds.append(own[0] if own else wall)
+        cycles.append(own[1] if own else None)
+    res = peer.result()
+    peak = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+               resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss) * 1024
+    return Measurement(seconds, cycles, res.counts, peak, peer.version(),
+                       res.simplices if keep_simplices else None)
+
+
+def _child(conn, peer, points, kwargs, memory_bytes):
+    faulthandler.disable()  # a crash is a result here, not something to dump
+    if memory_bytes:
+        resource.setrlimit(resource.RLIMIT_AS, (memory_bytes, memory_bytes))
+    try:
+        conn.send(("ok", measure(peer, points, **kwargs)))
+    except MemoryError:
+        conn.send(("fail", Failure("memory", "MemoryError")))
+    except BaseException as e:  # noqa: BLE001 - every failure is data here
+        conn.send(("fail", Failure("error", f"{type(e).__name__}: {e}\n{traceback.format_exc(limit=3)}")))
+    finally:
+        conn.close()
+
+
+def measure_isolated(peer, points, *, timeout=600.0, memory_bytes=None, **kwargs):
+    """``measure`` in a forked child.  Returns a Measurement or a Failure."""
+    ctx = mp.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_child, args=(send, peer, np.asarray(points), kwargs, memory_bytes))
+    proc.start()
+    send.close()
+    deadline = time.monotonic() + timeout
+    msg = None
+    while msg is None:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            proc.kill()
+            proc.join()
+            return Failure("timeout", f"no result within {timeout:g} s")
+        if recv.poll(min(left, 0.2)):
+            try:
+                msg = recv.recv()
+            except EOFError:
+                break
+        elif not proc.is_alive():
+            if recv.poll(0):
+                continue
+            break
+    proc.join()
+    if msg is not None:
+        status, payload = msg
+        if status == "fail" and "bad_alloc" in payload.detail:
+            payload.reason = "memory"
+        return payload
+    code = proc.exitcode
+    if code is not None and code < 0:
+        name = signal.Signals(-code).name
+        reason = "memory" if name == "SIGKILL" else "crash"
+        return Failure(reason, f"child died of {name}")
+    return Failure("crash", f"child exited with code {code} and no result")

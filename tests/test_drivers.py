@@ -1,0 +1,112 @@
+"""Peers: cross-checks against lfqt on general-position inputs, CGAL count
+sanity, and isolation of failures.  CGAL tests skip with the reason when the
+driver is not built (CI builds it)."""
+import os
+import signal
+import time
+
+import numpy as np
+import pytest
+
+import drivers
+import lfqt
+from conftest import triangle_set
+from drivers import peers
+
+PEERS_2D = [n for n in drivers.REGISTRY if drivers.make(n).dim == 2]
+
+
+def require(name):
+    ok, why = drivers.available(name)
+    if not ok:
+        pytest.skip(why)
+
+
+def tet_set(simplices):
+    return {tuple(sorted(map(int, s))) for s in np.asarray(simplices)}
+
+
+@pytest.mark.parametrize("name", PEERS_2D)
+def test_2d_peers_agree_with_lfqt(name, rng):
+    require(name)
+    pts = rng.random((1500, 2))
+    order = (np.arange(len(pts)), np.full(len(pts), -1)) if name.endswith("-order") else None
+    m = drivers.measure(drivers.make(name), pts, repeats=1, order=order, keep_simplices=True)
+    assert triangle_set(m.simplices) == triangle_set(lfqt.triangulate(pts).simplices)
+    assert len(m.seconds) == 1 and m.seconds[0] > 0
+
+
+def test_cgal_3d_agrees_with_qhull(rng):
+    require("cgal-dt3")
+    pts = rng.random((800, 3))
+    a = drivers.measure(drivers.make("cgal-dt3"), pts, repeats=1, keep_simplices=True)
+    b = drivers.measure(drivers.make("qhull-3d"), pts, repeats=1, keep_simplices=True)
+    assert tet_set(a.simplices) == tet_set(b.simplices)
+    assert a.cycles[0] > 0
+
+
+def test_cgal_counts_are_sane(rng):
+    require("cgal-dt3")
+    n = 20000
+    pts = rng.random((n, 3))
+    rng_order = (rng.permutation(n), np.full(n, -1))
+    ranged = drivers.measure(drivers.make("cgal-dt3"), pts, repeats=1, count=True)
+    assert 8 < ranged.counts["orientation"] / n < 20  # paper 2: about 12 per point
+    ordered = drivers.measure(drivers.make("cgal-dt3-order"), pts, repeats=1, count=True,
+                              order=rng_order)
+    assert 5 < ordered.counts["conflicts"] / n < 40
+    plain = drivers.measure(drivers.make("cgal-dt3"), pts, repeats=1)
+    assert plain.counts == {}  # counting is off unless asked for
+
+
+def test_cgal_unavailable_says_how_to_build(monkeypatch, tmp_path):
+    monkeypatch.setattr(peers, "CGAL_BINARY", tmp_path / "missing")
+    ok, why = drivers.available("cgal-dt2")
+    assert not ok and "python -m drivers build" in why
+
+
+def test_unknown_peer():
+    with pytest.raises(ValueError, match="unknown peer"):
+        drivers.make("leda")
+
+
+class Sleeper(drivers.Peer):
+    name = "sleeper"
+
+    def prepare(self, points, order=None, count=False):
+        pass
+
+    def run(self):
+        time.sleep(30)
+
+
+class Crasher(Sleeper):
+    def run(self):
+        os.kill(os.getpid(), signal.SIGSEGV)
+
+
+class Raiser(Sleeper):
+    def run(self):
+        raise RuntimeError("bad input")
+
+
+class Hog(Sleeper):
+    def run(self):
+        self.block = np.ones(2 ** 31, dtype=np.uint8)
+
+
+@pytest.mark.parametrize("peer,reason,kwargs", [
+    (Sleeper(), "timeout", {"timeout": 1.0}),
+    (Crasher(), "crash", {}),
+    (Raiser(), "error", {}),
+    (Hog(), "memory", {"memory_bytes": 1 << 30}),
+])
+def test_isolated_failures_are_recorded(peer, reason, kwargs):
+    out = drivers.measure_isolated(peer, np.zeros((3, 2)), repeats=1, **kwargs)
+    assert not out.ok and out.reason == reason, out
+
+
+def test_isolated_success_returns_measurement(rng):
+    out = drivers.measure_isolated(drivers.make("lfqt-dc"), rng.random((500, 2)), repeats=2,
+                                   timeout=120)
+    assert out.ok and len(out.seconds) == 2 and out.peak_rss_bytes > 0
