@@ -21,12 +21,18 @@ class Measurement:
     cycles: list  # peer's own cycle counts per repeat (None where it has none)
     counts: dict = field(default_factory=dict)
     peak_rss_bytes: int = 0
+    baseline_rss_bytes: int = 0  # resident size after prepare, before the first run
     version: str = ""
     simplices: object = None
 
     @property
     def ok(self):
         return True
+
+    @property
+    def extra_peak_bytes(self):
+        """Peak memory above the prepared state: what the operation itself used."""
+        return max(self.peak_rss_bytes - self.baseline_rss_bytes, 0)
 
 
 @dataclass
@@ -44,6 +50,7 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
     """Prepare once, warm up (not counted), then time ``repeats`` runs."""
     peer.check()
     peer.prepare(points, order=order, count=count)
+    baseline = current_rss()
     if warmup:
         peer.run()
     seconds, cycles = [], []
@@ -57,8 +64,14 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
     res = peer.result()
     peak = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
                resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss) * 1024
-    return Measurement(seconds, cycles, res.counts, peak, peer.version(),
+    return Measurement(seconds, cycles, res.counts, peak, baseline, peer.version(),
                        res.simplices if keep_simplices else None)
+
+
+def current_rss():
+    """Resident set size of this process now, in bytes."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * resource.getpagesize()
 
 
 def _child(conn, peer, points, kwargs, memory_bytes):

@@ -50,11 +50,34 @@ def _coordinates(points):
         arr = arr.astype(np.float64)
         if not np.array_equal(arr, wide, equal_nan=True):
             raise ValueError(f"{wide.dtype} points are not exactly representable as float64")
-    finite = np.isfinite(arr).all(axis=1)
-    if not finite.all():
-        bad = np.flatnonzero(~finite)
-        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
-    return np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
+    x, y = np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
+    bad, first, _, _ = _scan(x, y)
+    if bad:
+        raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
+    return x, y
+
+
+@njit(cache=True)
+def _scan(x, y):
+    """One pass: (rows with NaN/inf, first such row, max |v|, min nonzero |v|)."""
+    bad = 0
+    first = -1
+    big = 0.0
+    small = np.inf
+    for i in range(x.shape[0]):
+        a = abs(x[i])
+        b = abs(y[i])
+        if not (a < np.inf and b < np.inf):
+            bad += 1
+            if first < 0:
+                first = i
+            continue
+        big = max(big, a, b)
+        if a > 0.0:
+            small = min(small, a)
+        if b > 0.0:
+            small = min(small, b)
+    return bad, first, big, small
 
 
 def _scale_exponent(x, y):
@@ -62,12 +85,11 @@ def _scale_exponent(x, y):
     ValueError when their magnitudes span too many binades."""
     if x.dtype == np.float32 or x.size == 0:
         return 0  # float32's whole range already fits the window
-    mags = np.abs(np.concatenate((x, y)))
-    nz = mags[mags > 0]
-    if nz.size == 0:
+    _, _, big, small = _scan(x, y)
+    if big == 0.0:
         return 0
-    top = math.frexp(float(nz.max()))[1] - 1
-    bottom = max(math.frexp(float(nz.min()))[1] - 1, -1022)
+    top = math.frexp(big)[1] - 1
+    bottom = max(math.frexp(small)[1] - 1, -1022)
     lo = MIN_ULP_EXP + 52 - bottom
     hi = MAX_EXP - 1 - top
     if lo > hi:

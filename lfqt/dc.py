@@ -38,6 +38,7 @@ ALT_Y = 129
 XMAX, XMIN, YMAX, YMIN = 0, 1, 2, 3
 _STACK = 160
 _ONE = np.uint64(1)
+_ZERO = np.uint64(0)
 
 
 # --------------------------------------------------------------------------
@@ -69,23 +70,24 @@ def _bsr(x):
 
 
 @njit(cache=True, inline="always")
-def _diff_bit(khi, klo, wide, i, j):
-    """Highest bit in which keys i and j differ, or -1 when equal."""
-    if wide:
-        d = khi[i] ^ khi[j]
-        if d != 0:
-            return 64 + _bsr(d)
-    d = klo[i] ^ klo[j]
+def _diff_bit(hi_a, lo_a, hi_b, lo_b):
+    """Highest bit in which two 128-bit keys differ, or -1 when equal.  Keys
+    are passed as scalars: array arguments on a hot path cost numba atomic
+    reference counting."""
+    d = hi_a ^ hi_b
+    if d != 0:
+        return 64 + _bsr(d)
+    d = lo_a ^ lo_b
     if d != 0:
         return _bsr(d)
     return -1
 
 
 @njit(cache=True, inline="always")
-def _has_bit(khi, klo, wide, i, bit):
+def _has_bit(hi, lo, bit):
     if bit >= 64:
-        return (khi[i] >> np.uint64(bit - 64)) & _ONE
-    return (klo[i] >> np.uint64(bit)) & _ONE
+        return (hi >> np.uint64(bit - 64)) & _ONE
+    return (lo >> np.uint64(bit)) & _ONE
 
 
 @njit(cache=True)
@@ -108,7 +110,10 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
         b = s_hi[top]
         st = s_state[top]
         if st == 0:
-            bit = _diff_bit(khi, klo, wide, a, b - 1)
+            if wide:
+                bit = _diff_bit(khi[a], klo[a], khi[b - 1], klo[b - 1])
+            else:
+                bit = _diff_bit(_ZERO, klo[a], _ZERO, klo[b - 1])
             if bit < 0:
                 for i in range(a, b):
                     rep[i] = a
@@ -120,7 +125,7 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
             right = b - 1
             while right - left > 1:
                 mid = (left + right) >> 1
-                if _has_bit(khi, klo, wide, mid, bit):
+                if _has_bit(khi[mid] if wide else _ZERO, klo[mid], bit):
                     right = mid
                 else:
                     left = mid
