@@ -1,11 +1,12 @@
 """Public API: input validation, the phase pipeline, scipy-style wrapper."""
 import math
+import os
 import time
 
 import numpy as np
 from numba import njit
 
-from . import dc, morton, radix
+from . import dc, morton, parallel, radix
 from .mesh import Triangulation
 from .predicates import CCW_A, COUNTER_NAMES, N_COUNTERS, orient2d
 
@@ -25,7 +26,7 @@ class DegenerateInputError(ValueError):
     raises QhullError in that case)."""
 
 
-def _coordinates(points):
+def _coordinates(points, workers=None):
     """Validate (n, 2) input; return (x, y) as contiguous float32 or float64
     arrays holding exactly the input values."""
     arr = np.asarray(points)
@@ -51,20 +52,30 @@ def _coordinates(points):
         if not np.array_equal(arr, wide, equal_nan=True):
             raise ValueError(f"{wide.dtype} points are not exactly representable as float64")
     x, y = np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
-    bad, first, _, _ = _scan(x, y)
+    bad, first, _, _ = _scan_all(x, y, workers)
     if bad:
         raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
     return x, y
 
 
-@njit(cache=True)
-def _scan(x, y):
-    """One pass: (rows with NaN/inf, first such row, max |v|, min nonzero |v|)."""
+def _scan_all(x, y, workers=None):
+    """(rows with NaN/inf, first such row, max |v|, min nonzero |v|)."""
+    workers = workers or parallel.Workers(1)
+    parts = workers.map(workers.chunks(x.shape[0]), lambda c, lo, hi: _scan(x, y, lo, hi))
+    firsts = [p[1] for p in parts if p[0]]
+    return (sum(p[0] for p in parts), firsts[0] if firsts else -1,
+            max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf))
+
+
+@njit(cache=True, nogil=True)
+def _scan(x, y, lo, hi):
+    """One pass over [lo, hi): (rows with NaN/inf, first such row, max |v|,
+    min nonzero |v|)."""
     bad = 0
     first = -1
     big = 0.0
     small = np.inf
-    for i in range(x.shape[0]):
+    for i in range(lo, hi):
         a = abs(x[i])
         b = abs(y[i])
         if not (a < np.inf and b < np.inf):
@@ -80,12 +91,12 @@ def _scan(x, y):
     return bad, first, big, small
 
 
-def _scale_exponent(x, y):
+def _scale_exponent(x, y, workers=None):
     """Power of two that brings all coordinates into the exactness window, or
     ValueError when their magnitudes span too many binades."""
     if x.dtype == np.float32 or x.size == 0:
         return 0  # float32's whole range already fits the window
-    _, _, big, small = _scan(x, y)
+    _, _, big, small = _scan_all(x, y, workers)
     if big == 0.0:
         return 0
     top = math.frexp(big)[1] - 1
@@ -113,73 +124,126 @@ def _index_dtype(n):
     return np.int32 if n < 2 ** 31 - 2 else np.int64
 
 
-def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter="level"):
+def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter="level",
+                schedule="tasks"):
     """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
 
     points: array-like (n, 2) of float32, float64 or integers (exact in
         float64).  float32 input gives 64-bit Morton keys, float64 input
         128-bit keys; coordinates are never rounded.
-    threads: worker threads; the parallel split-list merge is not built yet,
-        so only 1 is accepted.
+    threads: worker threads (None: all cores).  With more than one, the
+        upper quad-tree levels are cut into bins triangulated in parallel and
+        merged as soon as both children are done (fqDel 3.4).  The result
+        does not depend on the thread count.  The alternating ablation always
+        runs on one thread.
     subdivision: "lfqt" (split at the highest differing Morton bit) or
         "alternating" (Triangle's alternating median cuts, same merge and
         predicates) for ablation.
     counters: report predicate counts and undecided filter stages in stats.
     filter: stage-1 error bound, "level" (fqDel 2.4, LFQT only) or
         "constant" (Triangle's).
+    schedule: "tasks" (dependency-driven merges) or "levels" (a barrier per
+        level of the upper tree), for comparison.
     """
     if subdivision not in ("lfqt", "alternating"):
         raise ValueError(f"subdivision must be 'lfqt' or 'alternating', got {subdivision!r}")
     if filter not in ("level", "constant"):
         raise ValueError(f"filter must be 'level' or 'constant', got {filter!r}")
+    if schedule not in ("tasks", "levels"):
+        raise ValueError(f"schedule must be 'tasks' or 'levels', got {schedule!r}")
     if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 1):
         raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
-    if threads not in (1, None):
-        raise NotImplementedError("the parallel split-list merge is not implemented yet; use threads=1")
+    if threads is None:
+        threads = os.cpu_count() or 1
+    threads = int(threads)
 
+    with parallel.Workers(threads) as workers:
+        return _triangulate(points, workers, subdivision, counters, filter, schedule)
+
+
+def _triangulate(points, workers, subdivision, counters, filter, schedule):
     t0 = time.perf_counter()
-    x, y = _coordinates(points)
+    x, y = _coordinates(points, workers)
     n = x.shape[0]
-    scale_exp = _scale_exponent(x, y)
+    scale_exp = _scale_exponent(x, y, workers)
     idx = np.zeros(1, dtype=_index_dtype(n))
     wide = x.dtype == np.float64
     coord_bits, exp_bits, mant_bits, emin = FORMATS[x.dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
+    chunks = workers.chunks(n)
     t_validate = time.perf_counter()
 
+    # Phase 1: Morton keys, radix sort, coordinates in Morton order.
+    perm = np.arange(n, dtype=idx.dtype)
     if wide:
-        khi, klo = morton.morton_keys64(x, y)
-        khi, klo, perm = radix.sort_keys128(khi, klo, idx)
+        khi = np.empty(n, dtype=np.uint64)
+        klo_in = np.empty(n, dtype=np.uint64)
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(x, y, khi, klo_in, lo, hi))
+        khi, perm = radix.sort_keys(khi, perm, workers)
+        klo = np.empty(n, dtype=np.uint64)
+        workers.map(chunks, lambda c, lo, hi: radix.gather_u64(klo_in, perm, klo, lo, hi))
+        del klo_in
+        radix.order_ties(khi, klo, perm)
     else:
-        klo, perm = radix.sort_keys64(morton.morton_keys32(x, y), idx)
+        keys = np.empty(n, dtype=np.uint64)
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(x, y, keys, lo, hi))
+        klo, perm = radix.sort_keys(keys, perm, workers)
         khi = klo[:0]
-    P = dc.gather_sorted(x, y, perm, 2.0 ** scale_exp)
+        del keys
+    P = np.empty((n, 2), dtype=np.float64)
+    workers.map(chunks, lambda c, lo, hi: dc.gather_points(x, y, perm, 2.0 ** scale_exp, P, lo, hi))
     t_sort = time.perf_counter()
 
-    ops = np.empty(max(2 * n - 1, 0), dtype=np.int64)
+    ops = np.empty(max(2 * n, 1), dtype=np.int64)
     rep = np.empty(n, dtype=idx.dtype)
-    nops = dc.subdivide_lfqt(khi, klo, wide, 0, n, ops, 0, rep) if n else 0
-    del khi, klo
-    if subdivision == "alternating" and n:
-        ids = np.flatnonzero(rep == np.arange(n)).astype(np.int64)
-        nops = dc.subdivide_alternating(ids, P, ops)
-        del ids
-    t_subdivide = time.perf_counter()
-
     nslots = max(2 * (n - 1), 0)
-    T = np.full(6 * nslots, dc.UNUSED, dtype=idx.dtype)
+    T = np.empty(6 * nslots, dtype=idx.dtype)
+    workers.map(workers.chunks(len(T)), lambda c, lo, hi: dc.fill(T, dc.UNUSED, lo, hi))
     ghost_out = np.empty(n, dtype=idx.dtype)
     cnt = np.zeros(N_COUNTERS, dtype=np.int64)
     out_ext = np.empty((dc._STACK, 4), dtype=np.int64)
     out_single = np.empty(dc._STACK, dtype=np.bool_)
     level_filter = filter == "level" and subdivision == "lfqt"
-    left = dc.run_ops(ops, 0, nops, P, T, ghost_out, fmt, level_filter, cnt,
-                      out_ext, out_single) if n else 0
-    del ops
-    t_merge = time.perf_counter()
+    parallel_run = subdivision == "lfqt" and workers.threads > 1 and n > 1
+    t_alloc = time.perf_counter()
 
-    simplices, neighbors = dc.compact(T, perm, idx)
-    duplicate_of = dc.duplicates_to_input(rep, perm, idx)
+    # Phases 2 and 3: subdivide and merge, in bins when parallel.
+    if parallel_run:
+        root_ext, root_single, cnt, pstats = parallel.build(
+            khi, klo, wide, n, P, T, ghost_out, rep, ops, fmt, level_filter, workers, schedule)
+        out_ext[0], out_single[0], left = root_ext, root_single, 1
+        t_subdivide = t_alloc + pstats["subdivide_top"]
+        t_merge = time.perf_counter()
+        phases = dict(subdivide_top=pstats["subdivide_top"], **pstats["thread_seconds"])
+        bins = pstats["bins"]
+    else:
+        nops = dc.subdivide_lfqt(khi, klo, wide, 0, n, ops, 0, rep) if n else 0
+        if subdivision == "alternating" and n:
+            ids = np.flatnonzero(rep == np.arange(n)).astype(np.int64)
+            nops = dc.subdivide_alternating(ids, P, ops)
+            del ids
+        t_subdivide = time.perf_counter()
+        left = dc.run_ops(ops, 0, nops, P, T, ghost_out, fmt, level_filter, cnt,
+                          out_ext, out_single, 0, out_ext, out_single) if n else 0
+        t_merge = time.perf_counter()
+        phases = dict(subdivide_top=0.0, subdivide_lower=t_subdivide - t_alloc,
+                      merge_lower=t_merge - t_subdivide, merge_top=0.0)
+        bins = 1
+    del ops, khi, klo
+
+    # Output: the real triangles, in input indices, compacted in parallel.
+    slot_chunks = workers.chunks(nslots)
+    counts = workers.map(slot_chunks, lambda c, lo, hi: dc.count_real(T, lo, hi))
+    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+    newid = np.empty(nslots, dtype=idx.dtype)
+    workers.map(slot_chunks, lambda c, lo, hi: dc.number_real(T, newid, lo, hi, starts[c]))
+    simplices = np.empty((int(starts[-1]), 3), dtype=idx.dtype)
+    neighbors = np.empty((int(starts[-1]), 3), dtype=idx.dtype)
+    workers.map(slot_chunks, lambda c, lo, hi: dc.write_real(T, newid, perm, simplices, neighbors,
+                                                             lo, hi))
+    del newid
+    duplicate_of = np.empty(n, dtype=idx.dtype)
+    workers.map(chunks, lambda c, lo, hi: dc.duplicates_into(rep, perm, duplicate_of, lo, hi))
     n_distinct = int(n - np.count_nonzero(rep != np.arange(n))) if n else 0
     degenerate, reason = False, ""
     if len(simplices):
@@ -197,14 +261,19 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter
 
     stats = {
         "seconds": {"validate": t_validate - t0, "sort": t_sort - t_validate,
-                    "subdivide": t_subdivide - t_sort, "merge": t_merge - t_subdivide,
-                    "output": t_output - t_merge, "total": t_output - t0},
+                    "allocate": t_alloc - t_sort, "subdivide": t_subdivide - t_alloc,
+                    "merge": t_merge - t_subdivide, "output": t_output - t_merge,
+                    "total": t_output - t0},
+        # paper Fig. 5: thread-seconds per phase, lower part (bins) and top
+        "phases": dict(sort=t_sort - t_validate, **phases),
+        "bins": bins,
         "n_distinct": n_distinct,
         "key_bits": 128 if wide else 64,
         "scale_exponent": scale_exp,
         "subdivision": subdivision,
         "filter": "level" if level_filter else "constant",
-        "threads": 1,
+        "threads": workers.threads,
+        "schedule": schedule if parallel_run else "serial",
     }
     if counters:
         stats["predicates"] = dict(zip(COUNTER_NAMES, map(int, cnt)))

@@ -90,7 +90,7 @@ def _has_bit(hi, lo, bit):
     return (lo >> np.uint64(bit)) & _ONE
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
     """Algorithm 1 of fqDel without recursion: append the post-order ops of
     the quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
@@ -147,6 +147,83 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
             nops += 1
             top -= 1
     return nops
+
+
+@njit(cache=True)
+def subdivide_top(khi, klo, wide, n, bin_size):
+    """The upper levels of the quad-tree, split until a node holds at most
+    ``bin_size`` keys (or only equal keys): returns the post-order nodes as
+    (lo, hi, split, bit, left, right) rows; split = -1 marks a bin."""
+    # Inner nodes hold more than bin_size keys and are disjoint per depth
+    # (at most 128 levels), which bounds the node count.
+    cap = 2 * 130 * (n // max(bin_size, 1) + 1) + 8
+    nodes = np.empty((cap, 6), dtype=np.int64)
+    count = 0
+    s_lo = np.empty(_STACK, dtype=np.int64)
+    s_hi = np.empty(_STACK, dtype=np.int64)
+    s_split = np.empty(_STACK, dtype=np.int64)
+    s_bit = np.empty(_STACK, dtype=np.int64)
+    s_state = np.empty(_STACK, dtype=np.int64)
+    s_left = np.empty(_STACK, dtype=np.int64)
+    s_right = np.empty(_STACK, dtype=np.int64)
+    top = 0
+    s_lo[0] = 0
+    s_hi[0] = n
+    s_state[0] = 0
+    last = -1
+    while top >= 0:
+        a = s_lo[top]
+        b = s_hi[top]
+        st = s_state[top]
+        if st == 0:
+            if wide:
+                bit = _diff_bit(khi[a], klo[a], khi[b - 1], klo[b - 1])
+            else:
+                bit = _diff_bit(_ZERO, klo[a], _ZERO, klo[b - 1])
+            if b - a <= bin_size or bit < 0:
+                nodes[count, 0] = a
+                nodes[count, 1] = b
+                nodes[count, 2] = -1
+                nodes[count, 3] = -1
+                nodes[count, 4] = -1
+                nodes[count, 5] = -1
+                last = count
+                count += 1
+                top -= 1
+                continue
+            left = a
+            right = b - 1
+            while right - left > 1:
+                mid = (left + right) >> 1
+                if _has_bit(khi[mid] if wide else _ZERO, klo[mid], bit):
+                    right = mid
+                else:
+                    left = mid
+            s_split[top] = right
+            s_bit[top] = bit
+            s_state[top] = 1
+            top += 1
+            s_lo[top] = a
+            s_hi[top] = right
+            s_state[top] = 0
+        elif st == 1:
+            s_left[top] = last
+            s_state[top] = 2
+            top += 1
+            s_lo[top] = s_split[top - 1]
+            s_hi[top] = b
+            s_state[top] = 0
+        else:
+            nodes[count, 0] = a
+            nodes[count, 1] = b
+            nodes[count, 2] = s_split[top]
+            nodes[count, 3] = s_bit[top]
+            nodes[count, 4] = s_left[top]
+            nodes[count, 5] = last
+            last = count
+            count += 1
+            top -= 1
+    return nodes[:count].copy()
 
 
 @njit(cache=True, inline="always")
@@ -288,12 +365,13 @@ def _binade(v, scale_exp, emin):
     return e if e > emin else emin
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
-            out_ext, out_single):
-    """Execute ops[op_lo:op_hi] on a partition stack; the partitions left on
-    the stack (one for a whole subtree) are written to out_ext/out_single
-    and their number returned.
+            in_ext, in_single, n_in, out_ext, out_single):
+    """Execute ops[op_lo:op_hi] on a partition stack that starts with the
+    n_in partitions in_ext/in_single (a top merge pushes its two finished
+    children); the partitions left on the stack (one for a whole subtree)
+    are written to out_ext/out_single and their number returned.
 
     A merge joins the partitions ext[top-1] (left/lower) and ext[top]
     (right/upper) into ext[top-1].  ``fmt`` = (coord_bits, exp_bits,
@@ -311,6 +389,11 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
     s_incircle = 0
     s2_incircle = 0
     top = -1
+    for i in range(n_in):
+        top += 1
+        for j in range(4):
+            ext[top, j] = in_ext[i, j]
+        single[top] = in_single[i]
     for k in range(op_lo, op_hi):
         op = ops[k]
         if op < 0:
@@ -559,20 +642,34 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
 # Output
 
 
-@njit(cache=True)
-def compact(T, perm, index_sample):
-    """Real triangles as (simplices, neighbors) in input indices; neighbor i
-    is opposite vertex i, -1 on the hull."""
-    nslots = T.shape[0] // 6
-    newid = np.full(nslots, -1, dtype=index_sample.dtype)
+@njit(cache=True, nogil=True)
+def count_real(T, lo, hi):
+    """Real (non-ghost, used) triangles among slots [lo, hi)."""
     m = 0
-    for t in range(nslots):
+    for t in range(lo, hi):
+        if T[6 * t] >= 0 and T[6 * t + 1] >= 0 and T[6 * t + 2] >= 0:
+            m += 1
+    return m
+
+
+@njit(cache=True, nogil=True)
+def number_real(T, newid, lo, hi, start):
+    """Output ids start, start+1, ... for the real triangles of [lo, hi);
+    -1 for the others."""
+    m = start
+    for t in range(lo, hi):
         if T[6 * t] >= 0 and T[6 * t + 1] >= 0 and T[6 * t + 2] >= 0:
             newid[t] = m
             m += 1
-    simplices = np.empty((m, 3), dtype=index_sample.dtype)
-    neighbors = np.empty((m, 3), dtype=index_sample.dtype)
-    for t in range(nslots):
+        else:
+            newid[t] = -1
+
+
+@njit(cache=True, nogil=True)
+def write_real(T, newid, perm, simplices, neighbors, lo, hi):
+    """Rows of the real triangles of slots [lo, hi) in input indices;
+    neighbour i is opposite vertex i, -1 on the hull."""
+    for t in range(lo, hi):
         k = newid[t]
         if k < 0:
             continue
@@ -580,7 +677,6 @@ def compact(T, perm, index_sample):
             simplices[k, i] = perm[T[6 * t + i]]
             # edge opposite vertex i starts at vertex i+1
             neighbors[k, i] = newid[T[6 * t + 3 + (i + 1) % 3] // 3]
-    return simplices, neighbors
 
 
 @njit(cache=True)
@@ -602,23 +698,25 @@ def hull_loop(T, start_ghost, perm, index_sample):
     return out
 
 
-@njit(cache=True)
-def gather_sorted(x, y, perm, scale):
-    """Coordinates in Morton order as an (n, 2) float64 array, times an exact
-    power of two; x and y of a point share a cache line."""
-    n = perm.shape[0]
-    P = np.empty((n, 2), dtype=np.float64)
-    for i in range(n):
+@njit(cache=True, nogil=True)
+def gather_points(x, y, perm, scale, P, lo, hi):
+    """P[i] = (x, y)[perm[i]] * scale for i in [lo, hi): coordinates in
+    Morton order as float64 (an exact power-of-two scale); x and y of a point
+    share a cache line."""
+    for i in range(lo, hi):
         j = perm[i]
         P[i, 0] = np.float64(x[j]) * scale
         P[i, 1] = np.float64(y[j]) * scale
-    return P
 
 
-@njit(cache=True)
-def duplicates_to_input(rep, perm, index_sample):
-    n = perm.shape[0]
-    out = np.empty(n, dtype=index_sample.dtype)
-    for i in range(n):
+@njit(cache=True, nogil=True)
+def duplicates_into(rep, perm, out, lo, hi):
+    """duplicate_of in input indices from representatives in sorted order."""
+    for i in range(lo, hi):
         out[perm[i]] = perm[rep[i]]
-    return out
+
+
+@njit(cache=True, nogil=True)
+def fill(arr, value, lo, hi):
+    for i in range(lo, hi):
+        arr[i] = value

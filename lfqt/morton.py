@@ -61,29 +61,37 @@ def interleave(x32, y32):
     return (spread_bits(x32) << _S1) | spread_bits(y32)
 
 
-@njit(cache=True)
-def morton_keys32(x, y):
-    """64-bit keys of float32 coordinate arrays."""
-    n = x.shape[0]
-    keys = np.empty(n, dtype=np.uint64)
+@njit(cache=True, nogil=True)
+def morton_keys32_into(x, y, keys, lo, hi):
+    """64-bit keys of float32 points [lo, hi) into ``keys``."""
     xb = x.view(np.uint32)
     yb = y.view(np.uint32)
-    for i in range(n):
+    for i in range(lo, hi):
         keys[i] = interleave(_U64(ordered_bits32(xb[i])), _U64(ordered_bits32(yb[i])))
+
+
+@njit(cache=True, nogil=True)
+def morton_keys64_into(x, y, khi, klo, lo, hi):
+    """128-bit keys of float64 points [lo, hi) into (khi, klo)."""
+    xb = x.view(np.uint64)
+    yb = y.view(np.uint64)
+    for i in range(lo, hi):
+        ox = ordered_bits64(xb[i])
+        oy = ordered_bits64(yb[i])
+        khi[i] = interleave(ox >> _S32, oy >> _S32)
+        klo[i] = interleave(ox & _LOW32, oy & _LOW32)
+
+
+def morton_keys32(x, y):
+    """64-bit keys of float32 coordinate arrays."""
+    keys = np.empty(x.shape[0], dtype=np.uint64)
+    morton_keys32_into(x, y, keys, 0, x.shape[0])
     return keys
 
 
-@njit(cache=True)
 def morton_keys64(x, y):
     """128-bit keys of float64 coordinate arrays, as (hi, lo)."""
-    n = x.shape[0]
-    hi = np.empty(n, dtype=np.uint64)
-    lo = np.empty(n, dtype=np.uint64)
-    xb = x.view(np.uint64)
-    yb = y.view(np.uint64)
-    for i in range(n):
-        ox = ordered_bits64(xb[i])
-        oy = ordered_bits64(yb[i])
-        hi[i] = interleave(ox >> _S32, oy >> _S32)
-        lo[i] = interleave(ox & _LOW32, oy & _LOW32)
+    hi = np.empty(x.shape[0], dtype=np.uint64)
+    lo = np.empty(x.shape[0], dtype=np.uint64)
+    morton_keys64_into(x, y, hi, lo, 0, x.shape[0])
     return hi, lo

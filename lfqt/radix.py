@@ -12,24 +12,53 @@ _FF = np.uint64(0xFF)
 _INSERTION_RUN = 24
 
 
-@njit(cache=True)
-def _histograms(keys, lo, hi):
-    counts = np.zeros((8, 256), dtype=np.int64)
+@njit(cache=True, nogil=True)
+def histograms(keys, lo, hi, counts):
+    """Add the counts of all 8 digits of keys[lo:hi] to counts (8, 256)."""
     for i in range(lo, hi):
         k = keys[i]
         for d in range(8):
             counts[d, (k >> np.uint64(8 * d)) & _FF] += 1
-    return counts
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
+def digit_counts(keys, lo, hi, shift, counts):
+    """counts (256,) of the digit at ``shift`` in keys[lo:hi]."""
+    counts[:] = 0
+    sh = np.uint64(shift)
+    for i in range(lo, hi):
+        counts[(keys[i] >> sh) & _FF] += 1
+
+
+@njit(cache=True, nogil=True)
+def scatter(src_k, src_p, dst_k, dst_p, lo, hi, shift, offsets):
+    """Stable scatter of [lo, hi) by the digit at ``shift``; offsets (256,)
+    holds each bucket's next destination and is advanced."""
+    sh = np.uint64(shift)
+    for i in range(lo, hi):
+        k = src_k[i]
+        b = (k >> sh) & _FF
+        j = offsets[b]
+        offsets[b] = j + 1
+        dst_k[j] = k
+        dst_p[j] = src_p[i]
+
+
+def varying_digits(counts, first_key, n):
+    """Digits (0 = least significant) that are not the same for all keys."""
+    return [d for d in range(8) if counts[d, (int(first_key) >> (8 * d)) & 0xFF] != n]
+
+
+@njit(cache=True, nogil=True)
 def radix_sort_range(keys, perm, lo, hi, key_buf, perm_buf):
     """Stable sort of keys[lo:hi] (uint64) carrying perm[lo:hi], in place;
-    key_buf/perm_buf are scratch of the same length as keys."""
+    key_buf/perm_buf are scratch of the same length as keys.  Returns the
+    number of passes made."""
     n = hi - lo
     if n < 2:
         return 0
-    counts = _histograms(keys, lo, hi)
+    counts = np.zeros((8, 256), dtype=np.int64)
+    histograms(keys, lo, hi, counts)
     first = keys[lo]
     passes = 0
     offsets = np.empty(256, dtype=np.int64)
@@ -42,13 +71,7 @@ def radix_sort_range(keys, perm, lo, hi, key_buf, perm_buf):
         for b in range(256):
             offsets[b] = total
             total += counts[d, b]
-        for i in range(lo, hi):
-            k = src_k[i]
-            b = (k >> shift) & _FF
-            j = offsets[b]
-            offsets[b] = j + 1
-            dst_k[j] = k
-            dst_p[j] = src_p[i]
+        scatter(src_k, src_p, dst_k, dst_p, lo, hi, 8 * d, offsets)
         src_k, src_p, dst_k, dst_p = dst_k, dst_p, src_k, src_p
         passes += 1
     if passes % 2 == 1:
@@ -58,31 +81,46 @@ def radix_sort_range(keys, perm, lo, hi, key_buf, perm_buf):
     return passes
 
 
-@njit(cache=True)
-def sort_keys64(keys, index_dtype_sample):
-    """Sort 64-bit keys; returns (sorted_keys, perm) with
-    sorted_keys[i] = keys[perm[i]]."""
+def sort_keys(keys, perm, workers):
+    """Stable LSD sort of uint64 ``keys`` carrying ``perm``, chunked over
+    ``workers`` (lfqt.parallel.Workers).  Returns (sorted keys, perm), which
+    may be the given arrays or their scratch twins."""
     n = keys.shape[0]
-    sorted_keys = keys.copy()
-    perm = np.empty(n, dtype=index_dtype_sample.dtype)
-    for i in range(n):
-        perm[i] = i
-    key_buf = np.empty(n, dtype=np.uint64)
-    perm_buf = np.empty(n, dtype=perm.dtype)
-    radix_sort_range(sorted_keys, perm, 0, n, key_buf, perm_buf)
-    return sorted_keys, perm
+    if n < 2:
+        return keys, perm
+    chunks = workers.chunks(n)
+    counts = np.sum(workers.map(chunks, lambda c, lo, hi: _hist_chunk(keys, lo, hi)), axis=0)
+    src_k, src_p = keys, perm
+    dst_k, dst_p = np.empty_like(keys), np.empty_like(perm)
+    for d in varying_digits(counts, keys[0], n):
+        per_chunk = np.stack(workers.map(chunks, lambda c, lo, hi: _digit_chunk(src_k, lo, hi, 8 * d)))
+        # chunk c writes bucket b after every smaller bucket and after the
+        # same bucket of chunks before it: stable
+        starts = np.concatenate(([0], np.cumsum(per_chunk.sum(axis=0))[:-1]))
+        offsets = starts + np.cumsum(per_chunk, axis=0) - per_chunk
+        workers.map(chunks, lambda c, lo, hi: scatter(src_k, src_p, dst_k, dst_p, lo, hi, 8 * d,
+                                                      offsets[c].copy()))
+        src_k, src_p, dst_k, dst_p = dst_k, dst_p, src_k, src_p
+    return src_k, src_p
 
 
-@njit(cache=True)
-def sort_keys128(hi, lo, index_dtype_sample):
-    """Sort 128-bit keys given as (hi, lo) uint64 arrays: radix on ``hi``,
-    then order each run of equal ``hi`` by ``lo`` (insertion sort for short
-    runs, radix sort for long ones).  Returns (sorted_hi, sorted_lo, perm)."""
-    n = hi.shape[0]
-    shi, perm = sort_keys64(hi, index_dtype_sample)
-    slo = np.empty(n, dtype=np.uint64)
-    for i in range(n):
-        slo[i] = lo[perm[i]]
+def _hist_chunk(keys, lo, hi):
+    counts = np.zeros((8, 256), dtype=np.int64)
+    histograms(keys, lo, hi, counts)
+    return counts
+
+
+def _digit_chunk(keys, lo, hi, shift):
+    counts = np.empty(256, dtype=np.int64)
+    digit_counts(keys, lo, hi, shift, counts)
+    return counts
+
+
+@njit(cache=True, nogil=True)
+def order_ties(shi, slo, perm):
+    """Within each run of equal ``shi``, sort ``slo`` (carrying perm) stably:
+    insertion sort for short runs, radix sort for long ones."""
+    n = shi.shape[0]
     key_buf = np.empty(0, dtype=np.uint64)
     perm_buf = np.empty(0, dtype=perm.dtype)
     start = 0
@@ -107,4 +145,37 @@ def sort_keys128(hi, lo, index_dtype_sample):
                 slo[j + 1] = k
                 perm[j + 1] = p
         start = end
+
+
+@njit(cache=True, nogil=True)
+def gather_u64(src, perm, dst, lo, hi):
+    for i in range(lo, hi):
+        dst[i] = src[perm[i]]
+
+
+@njit(cache=True)
+def sort_keys64(keys, index_dtype_sample):
+    """Sort 64-bit keys; returns (sorted_keys, perm) with
+    sorted_keys[i] = keys[perm[i]]."""
+    n = keys.shape[0]
+    sorted_keys = keys.copy()
+    perm = np.empty(n, dtype=index_dtype_sample.dtype)
+    for i in range(n):
+        perm[i] = i
+    key_buf = np.empty(n, dtype=np.uint64)
+    perm_buf = np.empty(n, dtype=perm.dtype)
+    radix_sort_range(sorted_keys, perm, 0, n, key_buf, perm_buf)
+    return sorted_keys, perm
+
+
+@njit(cache=True)
+def sort_keys128(hi, lo, index_dtype_sample):
+    """Sort 128-bit keys given as (hi, lo) uint64 arrays: radix on ``hi``,
+    then order each run of equal ``hi`` by ``lo``.  Returns (sorted_hi,
+    sorted_lo, perm)."""
+    n = hi.shape[0]
+    shi, perm = sort_keys64(hi, index_dtype_sample)
+    slo = np.empty(n, dtype=np.uint64)
+    gather_u64(lo, perm, slo, 0, n)
+    order_ties(shi, slo, perm)
     return shi, slo, perm

@@ -1,0 +1,96 @@
+"""Parallel LFQT: the result does not depend on the thread count or the
+schedule, errors in workers surface, and stats carry the Fig. 5 phases."""
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import generators
+import lfqt
+from conftest import triangle_set, triangulate_verified
+from lfqt import dc, parallel
+
+THREADS = [2, 3, 4, 7]
+
+
+def same_mesh(a, b):
+    return triangle_set(a.simplices) == triangle_set(b.simplices) and \
+        np.array_equal(a.duplicate_of, b.duplicate_of) and np.array_equal(a.hull, b.hull)
+
+
+@pytest.mark.parametrize("name", ["uniform", "grid", "cluster", "circle", "spiral"])
+@pytest.mark.parametrize("schedule", ["tasks", "levels"])
+def test_same_triangulation_for_every_thread_count(name, schedule):
+    pts = generators.make(name, 40000, seed=5)
+    serial = triangulate_verified(pts, threads=1)
+    for threads in THREADS:
+        par = triangulate_verified(pts, threads=threads, schedule=schedule)
+        assert same_mesh(serial, par), (name, threads)
+        assert par.stats["threads"] == threads and par.stats["bins"] > 1
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(2, 3000), st.sampled_from(THREADS),
+       st.booleans())
+def test_random_small_sets_match_serial(seed, n, threads, with_duplicates):
+    rng = np.random.default_rng(seed)
+    pts = rng.random((n, 2))
+    if with_duplicates:
+        pts = np.r_[pts, pts[: n // 3]]
+    serial = lfqt.triangulate(pts, threads=1)
+    par = triangulate_verified(pts, threads=threads)
+    assert same_mesh(serial, par)
+
+
+def test_more_threads_than_points_and_cores():
+    pts = np.random.default_rng(1).random((5, 2))
+    assert same_mesh(lfqt.triangulate(pts), triangulate_verified(pts, threads=16))
+    assert triangulate_verified(np.ones((4, 2)), threads=8).degenerate
+
+
+def test_default_uses_all_cores():
+    tri = lfqt.triangulate(np.random.default_rng(0).random((200000, 2)), threads=None)
+    import os
+    assert tri.stats["threads"] == os.cpu_count()
+
+
+def test_fig5_phases_are_reported():
+    tri = lfqt.triangulate(np.random.default_rng(0).random((300000, 2)), threads=4, counters=True)
+    ph = tri.stats["phases"]
+    assert set(ph) == {"sort", "subdivide_top", "subdivide_lower", "merge_lower", "merge_top"}
+    assert ph["merge_lower"] > 0 and ph["merge_top"] > 0 and tri.stats["bins"] >= 16
+    serial = lfqt.triangulate(np.random.default_rng(0).random((300000, 2)), counters=True)
+    # same merges, so the same predicate calls in total
+    assert tri.stats["predicates"]["orient"] == serial.stats["predicates"]["orient"]
+
+
+def test_worker_errors_surface_without_hanging(monkeypatch):
+    calls = {"n": 0}
+    real = dc.run_ops
+
+    def flaky(*args):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise MemoryError("injected")
+        return real(*args)
+
+    monkeypatch.setattr(dc, "run_ops", flaky)
+    pts = np.random.default_rng(0).random((100000, 2))
+    for schedule in ("tasks", "levels"):
+        calls["n"] = 0
+        with pytest.raises(MemoryError, match="injected"):
+            lfqt.triangulate(pts, threads=3, schedule=schedule)
+
+
+def test_workers_chunking_covers_the_range():
+    with parallel.Workers(3) as w:
+        for n in (0, 1, 5, 10 ** 6 + 7):
+            chunks = w.chunks(n)
+            assert chunks[0][0] == 0 and chunks[-1][1] == n
+            assert all(a[1] == b[0] for a, b in zip(chunks, chunks[1:]))
+        out = w.map(w.chunks(10 ** 6), lambda c, lo, hi: (c, hi - lo))
+        assert [c for c, _ in out] == list(range(len(out))) and sum(s for _, s in out) == 10 ** 6
+
+
+def test_bad_schedule():
+    with pytest.raises(ValueError, match="schedule"):
+        lfqt.triangulate(np.random.default_rng(0).random((30, 2)), threads=1, schedule="x")
