@@ -192,6 +192,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
         del keys
     P = np.empty((n, 2), dtype=np.float64)
     workers.map(chunks, lambda c, lo, hi: dc.gather_points(x, y, perm, 2.0 ** scale_exp, P, lo, hi))
+    del x, y  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
 
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
@@ -229,7 +230,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
         phases = dict(subdivide_top=0.0, subdivide_lower=t_subdivide - t_alloc,
                       merge_lower=t_merge - t_subdivide, merge_top=0.0)
         bins = 1
-    del ops, khi, klo
+    del ops, khi, klo, P
 
     # Output: the real triangles, in input indices, compacted in parallel.
     slot_chunks = workers.chunks(nslots)
