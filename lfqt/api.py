@@ -125,7 +125,7 @@ def _index_dtype(n):
 
 
 def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter="level",
-                schedule="tasks"):
+                schedule="levels"):
     """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
 
     points: array-like (n, 2) of float32, float64 or integers (exact in
@@ -142,8 +142,10 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter
     counters: report predicate counts and undecided filter stages in stats.
     filter: stage-1 error bound, "level" (fqDel 2.4, LFQT only) or
         "constant" (Triangle's).
-    schedule: "tasks" (dependency-driven merges) or "levels" (a barrier per
-        level of the upper tree), for comparison.
+    schedule: "levels" (a barrier after each level of the upper tree) or
+        "tasks" (each merge starts when both children are done, the paper's
+        split-list).  "levels" measured faster on our 2-core machines (see
+        lfqt.parallel), so it is the default.
     """
     if subdivision not in ("lfqt", "alternating"):
         raise ValueError(f"subdivision must be 'lfqt' or 'alternating', got {subdivision!r}")
