@@ -44,6 +44,11 @@ class Peer:
         """(seconds, cycles or None) measured by the peer itself, or None."""
         return None
 
+    def self_memory(self):
+        """Peak bytes the operation used, measured by the peer itself (a
+        peer in another process), or None to use this process's."""
+        return None
+
     def result(self):
         return Result()
 

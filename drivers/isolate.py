@@ -53,7 +53,7 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
     baseline = current_rss()
     if warmup:
         peer.run()
-    seconds, cycles = [], []
+    seconds, cycles, own_memory = [], [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
         peer.run()
@@ -61,9 +61,13 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
         own = peer.self_timing()
         seconds.append(own[0] if own else wall)
         cycles.append(own[1] if own else None)
+        if peer.self_memory() is not None:
+            own_memory.append(peer.self_memory())
     res = peer.result()
-    peak = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
-               resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss) * 1024
+    if own_memory:  # the peer ran elsewhere: its own figure, against a zero baseline
+        peak, baseline = max(own_memory), 0
+    else:
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     return Measurement(seconds, cycles, res.counts, peak, baseline, peer.version(),
                        res.simplices if keep_simplices else None)
 

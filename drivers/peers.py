@@ -39,10 +39,12 @@ class LfqtDC(Peer):
         import lfqt
         self.points = np.ascontiguousarray(points)
         self.count = count
+        self.tri = None
         lfqt.triangulate(self.points[:64], subdivision=self.subdivision)  # JIT warm-up
 
     def run(self):
         import lfqt
+        self.tri = None  # the previous result must not inflate this run's peak memory
         self.tri = lfqt.triangulate(self.points, subdivision=self.subdivision,
                                     threads=self.threads, counters=self.count)
 
@@ -71,10 +73,13 @@ class TrianglePeer(Peer):
             raise Unavailable("PyPI package 'triangle' is not installed") from e
 
     def prepare(self, points, order=None, count=False):
-        self.arg = {"vertices": np.ascontiguousarray(points, dtype=np.float64)}
+        # Triangle's wrapper needs a writable buffer (cached sets are read-only memmaps)
+        self.arg = {"vertices": np.array(points, dtype=np.float64, order="C", copy=True)}
+        self.out = None
 
     def run(self):
         import triangle
+        self.out = None
         self.out = triangle.triangulate(self.arg, self.switches)
 
     def result(self):
@@ -93,9 +98,11 @@ class QhullPeer(Peer):
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.out = None
 
     def run(self):
         import scipy.spatial
+        self.out = None
         self.out = scipy.spatial.Delaunay(self.points)
 
     def result(self):
@@ -146,6 +153,10 @@ class CgalPeer(Peer):
 
     def self_timing(self):
         return self.report["seconds"], self.report["tsc_cycles"]
+
+    def self_memory(self):
+        """Peak resident bytes of the driver above its state after loading."""
+        return max(self.report["peak_rss_bytes"] - self.report["baseline_rss_bytes"], 0)
 
     def result(self):
         simplices = np.load(self.out_path)

@@ -6,15 +6,18 @@ import time
 import numpy as np
 from numba import njit
 
-from . import dc, morton, parallel, radix
+from . import dc, insert as _insert, morton, orders, parallel, radix
 from .mesh import Triangulation
 from .predicates import CCW_A, COUNTER_NAMES, N_COUNTERS, orient2d
 
 # Exactness window (see predicates): after an exact power-of-two rescale every
-# nonzero |coordinate| must lie in [2**(MIN_ULP_EXP + 52), 2**MAX_EXP).
+# nonzero |coordinate| must lie in [2**(MIN_ULP_EXP + 52), 2**MAX_EXP), so that
+# no product of the predicates' degree (4 in 2D, 5 for in-sphere) overflows or
+# leaves the normal range.
 MAX_EXP = 248
 MIN_ULP_EXP = -240
-MAX_SPAN = MAX_EXP - 1 - MIN_ULP_EXP - 52  # binades between the largest and smallest nonzero value
+MAX_EXP_3D = 198
+MIN_ULP_EXP_3D = -192
 FORMATS = {  # coord_bits, exp_bits, mant_bits, smallest normal exponent
     np.dtype(np.float32): (32, 8, 23, -126),
     np.dtype(np.float64): (64, 11, 52, -1022),
@@ -26,14 +29,15 @@ class DegenerateInputError(ValueError):
     raises QhullError in that case)."""
 
 
-def _coordinates(points, workers=None):
-    """Validate (n, 2) input; return (x, y) as contiguous float32 or float64
-    arrays holding exactly the input values."""
+def _as_exact_float(points, dims):
+    """Validate an (n, d) array-like with d in ``dims``; return it as float32
+    or float64 holding exactly the input values."""
     arr = np.asarray(points)
     if arr.dtype == object or arr.dtype.kind not in "fiu":
         raise TypeError(f"points must be real numbers, got dtype {arr.dtype}")
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise ValueError(f"points must have shape (n, 2), got {arr.shape}")
+    if arr.ndim != 2 or arr.shape[1] not in dims:
+        want = " or ".join(f"(n, {d})" for d in dims)
+        raise ValueError(f"points must have shape {want}, got {arr.shape}")
     if arr.dtype.kind in "iu":
         big = (arr > 2 ** 53) | (arr < -2 ** 53)
         inexact = np.zeros(len(arr), dtype=bool)
@@ -43,14 +47,21 @@ def _coordinates(points, workers=None):
             rows = np.flatnonzero(inexact)
             raise ValueError(f"{len(rows)} integer rows are not exactly representable in float64 "
                              f"(beyond 2**53); the first is row {rows[0]}")
-        arr = arr.astype(np.float64)
-    elif arr.dtype == np.float16:
-        arr = arr.astype(np.float32)
-    elif arr.dtype not in (np.float32, np.float64):
+        return arr.astype(np.float64)
+    if arr.dtype == np.float16:
+        return arr.astype(np.float32)
+    if arr.dtype not in (np.float32, np.float64):
         wide = arr
         arr = arr.astype(np.float64)
         if not np.array_equal(arr, wide, equal_nan=True):
             raise ValueError(f"{wide.dtype} points are not exactly representable as float64")
+    return arr
+
+
+def _coordinates(points, workers=None):
+    """Validate (n, 2) input; return (x, y) as contiguous float32 or float64
+    arrays holding exactly the input values."""
+    arr = _as_exact_float(points, (2,))
     x, y = np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
     bad, first, _, _ = _scan_all(x, y, workers)
     if bad:
@@ -97,15 +108,22 @@ def _scale_exponent(x, y, workers=None):
     if x.dtype == np.float32 or x.size == 0:
         return 0  # float32's whole range already fits the window
     _, _, big, small = _scan_all(x, y, workers)
+    return _window_exponent(big, small, MAX_EXP, MIN_ULP_EXP)
+
+
+def _window_exponent(big, small, max_exp, min_ulp_exp):
+    """Power of two s with every nonzero magnitude in [small, big] mapped into
+    [2**(min_ulp_exp + 52), 2**max_exp)."""
     if big == 0.0:
         return 0
     top = math.frexp(big)[1] - 1
     bottom = max(math.frexp(small)[1] - 1, -1022)
-    lo = MIN_ULP_EXP + 52 - bottom
-    hi = MAX_EXP - 1 - top
+    lo = min_ulp_exp + 52 - bottom
+    hi = max_exp - 1 - top
     if lo > hi:
+        span = max_exp - 1 - min_ulp_exp - 52
         raise ValueError(
-            f"coordinate magnitudes span 2**{bottom} to 2**{top}, more than {MAX_SPAN} binades; "
+            f"coordinate magnitudes span 2**{bottom} to 2**{top}, more than {span} binades; "
             "exact predicates cannot represent every product without overflow or underflow. "
             "Translate or split the data so that the smallest nonzero magnitude is closer to "
             "the largest.")
@@ -118,6 +136,20 @@ def _exact_coordinates(points):
     x, y = _coordinates(points)
     s = _scale_exponent(x, y)
     return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
+
+
+def _exact_points3(points):
+    """(n, 3) float64 coordinates rescaled by an exact power of two into the
+    3D exactness window."""
+    arr = _as_exact_float(points, (3,))
+    if not np.isfinite(arr).all():
+        bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
+    P = np.ascontiguousarray(arr, dtype=np.float64)
+    mags = np.abs(P[P != 0])
+    s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
+                         MAX_EXP_3D, MIN_ULP_EXP_3D)
+    return P * 2.0 ** s
 
 
 def _index_dtype(n):
@@ -283,6 +315,103 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
     return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
                          duplicate_of=duplicate_of, stats=stats, degenerate=degenerate,
                          reason=reason)
+
+
+def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
+    """Exact Delaunay triangulation of 2D or 3D points by incremental
+    insertion (Bowyer–Watson) in a given order (Liu et al. 2013).
+
+    points: (n, 2) or (n, 3) array-like; dimension from the shape.
+    order: a name from lfqt.orders.ORDERS ("kdtree" by default, "kdtree-
+        alternate", "hilbert", "brio", "random", "input") or an explicit
+        (perm, hint) pair of int arrays.
+    hint: for Kd orders, "parent" (default) or "sibling".
+    counters: report orientation tests during location, conflicting cells
+        and in-sphere tests (totals and per point), and cycles per phase.
+    seed: for the randomized orders.
+
+    Returns a Triangulation; in 3D ``simplices`` are right-handed
+    tetrahedra and ``hull`` the outward (k, 3) hull facets.
+    """
+    t0 = time.perf_counter()
+    arr = _as_exact_float(points, (2, 3))
+    d = arr.shape[1]
+    finite = np.isfinite(arr).all(axis=1)
+    if not finite.all():
+        bad = np.flatnonzero(~finite)
+        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
+    P = np.ascontiguousarray(arr, dtype=np.float64)
+    mags = np.abs(P[P != 0])
+    if d == 2:
+        s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
+                             MAX_EXP, MIN_ULP_EXP)
+    else:
+        s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
+                             MAX_EXP_3D, MIN_ULP_EXP_3D)
+    P *= 2.0 ** s
+    n = len(P)
+    t1 = time.perf_counter()
+    if isinstance(order, tuple):
+        perm, hints = (np.asarray(a, dtype=np.int64) for a in order)
+        if sorted(perm.tolist()) != list(range(n)) or len(hints) != n:
+            raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
+                             "range(n) and one hint per point")
+        order_name = "explicit"
+    else:
+        perm, hints = orders.order(P, order, hint=hint or "parent", seed=seed)
+        order_name = order
+    t2 = time.perf_counter()
+    span = float(np.abs(P).max(initial=1.0)) or 1.0
+    C, N, alive, ncells, dup_of, cnt, ok = _insert.insert_all(P, d, perm, hints, span)
+    t3 = time.perf_counter()
+    idx = _index_dtype(n)
+    degenerate, reason = False, ""
+    if ok:
+        simplices, neighbors = _insert.finite_cells(C, N, alive)
+        facets = _insert.hull_facets(C, alive)
+        hull = _chain_hull(facets) if d == 2 else facets.astype(idx)
+    else:
+        degenerate = True
+        simplices = np.empty((0, d + 1), dtype=np.int32)
+        neighbors = np.empty((0, d + 1), dtype=np.int32)
+        distinct = np.unique(P, axis=0, return_index=True)[1] if n else np.empty(0, int)
+        hull = np.array(sorted({int(distinct[0]), int(distinct[-1])}) if n else [], dtype=idx)
+        reason = ("no points" if n == 0 else "fewer than %d affinely independent points (%s)"
+                  % (d + 1, "all equal" if len(distinct) == 1 else
+                     "collinear" if d == 2 else "collinear or coplanar"))
+        dup_of = np.arange(n)
+        if n:
+            _, first, inv = np.unique(P, axis=0, return_index=True, return_inverse=True)
+            dup_of = first[inv.ravel()]
+    t4 = time.perf_counter()
+    stats = {
+        "seconds": {"validate": t1 - t0, "order": t2 - t1, "insert": t3 - t2,
+                    "output": t4 - t3, "total": t4 - t0},
+        "order": order_name, "dimension": d, "scale_exponent": s,
+        "n_distinct": int(np.count_nonzero(dup_of == np.arange(n))),
+    }
+    if counters:
+        totals = dict(zip(_insert.COUNTER_NAMES, map(int, cnt)))
+        inserted = max(stats["n_distinct"], 1)
+        stats["counts"] = totals
+        stats["per_point"] = {"orientation_tests": totals["orientation_tests"] / inserted,
+                              "conflicts": totals["conflicts"] / inserted,
+                              "insphere_tests": totals["insphere_tests"] / inserted}
+        stats["cycles"] = {"locate": totals["locate_cycles"], "cavity": totals["cavity_cycles"]}
+    return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
+                         duplicate_of=dup_of.astype(idx), stats=stats, degenerate=degenerate,
+                         reason=reason)
+
+
+def _chain_hull(edges):
+    """Counter-clockwise vertex loop from 2D hull facets (a, b) of infinite
+    cells, whose counter-clockwise hull edge is b -> a."""
+    nxt = {int(b): int(a) for a, b in edges}
+    start = int(edges[0][1])
+    loop = [start]
+    while nxt[loop[-1]] != start:
+        loop.append(nxt[loop[-1]])
+    return np.array(loop, dtype=np.int32)
 
 
 @njit(cache=True)

@@ -330,31 +330,19 @@ def _prev(e):
 
 
 @njit(cache=True, inline="always")
-def _vert(T, e):
-    """Origin vertex of half-edge e."""
+def _vidx(e):
+    """Index in T of the origin vertex of half-edge e.  The merge indexes T
+    through these scalar helpers: helpers taking the array itself cost numba
+    an atomic reference-count update per call in this loop."""
     t = e // 3
-    return T[6 * t + e - 3 * t]
+    return 6 * t + e - 3 * t
 
 
 @njit(cache=True, inline="always")
-def _twin(T, e):
+def _hidx(e):
+    """Index in T of the twin of half-edge e."""
     t = e // 3
-    return T[6 * t + 3 + e - 3 * t]
-
-
-@njit(cache=True, inline="always")
-def _link(T, a, b):
-    ta = a // 3
-    tb = b // 3
-    T[6 * ta + 3 + a - 3 * ta] = b
-    T[6 * tb + 3 + b - 3 * tb] = a
-
-
-@njit(cache=True, inline="always")
-def _set(T, t, a, b, c):
-    T[6 * t] = a
-    T[6 * t + 1] = b
-    T[6 * t + 2] = c
+    return 6 * t + 3 + e - 3 * t
 
 
 @njit(cache=True, inline="always")
@@ -465,21 +453,32 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
             # Splice the ghost rings: A = (l, r, G) above the tangent, B below.
             A = 2 * (slot - 1)
             B = A + 1
-            _set(T, A, l, r, GHOST)
-            _set(T, B, r, l, GHOST)
-            _link(T, 3 * A, 3 * B)
+            T[6 * A] = l
+            T[6 * A + 1] = r
+            T[6 * A + 2] = GHOST
+            T[6 * B] = r
+            T[6 * B + 1] = l
+            T[6 * B + 2] = GHOST
+            T[_hidx(3 * A)] = 3 * B
+            T[_hidx(3 * B)] = 3 * A
             if l_single:
-                _link(T, 3 * A + 2, 3 * B + 1)
+                T[_hidx(3 * A + 2)] = 3 * B + 1
+                T[_hidx(3 * B + 1)] = 3 * A + 2
             else:
                 l_out = T[6 * gl + 5]
-                _link(T, 3 * A + 2, l_out)
-                _link(T, 3 * B + 1, 3 * gl + 2)
+                T[_hidx(3 * A + 2)] = l_out
+                T[_hidx(l_out)] = 3 * A + 2
+                T[_hidx(3 * B + 1)] = 3 * gl + 2
+                T[_hidx(3 * gl + 2)] = 3 * B + 1
             if r_single:
-                _link(T, 3 * A + 1, 3 * B + 2)
+                T[_hidx(3 * A + 1)] = 3 * B + 2
+                T[_hidx(3 * B + 2)] = 3 * A + 1
             else:
                 r_in = T[6 * gr + 4]
-                _link(T, 3 * A + 1, r_in)
-                _link(T, 3 * B + 2, 3 * gr + 1)
+                T[_hidx(3 * A + 1)] = r_in
+                T[_hidx(r_in)] = 3 * A + 1
+                T[_hidx(3 * B + 2)] = 3 * gr + 1
+                T[_hidx(3 * gr + 1)] = 3 * B + 2
             l_bottom = l
 
             # Rising bubble.
@@ -499,7 +498,7 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     lvalid = o > 0.0
                     while lvalid:
                         e = T[6 * GL + 3]
-                        x = _vert(T, _prev(e))
+                        x = T[_vidx(_prev(e))]
                         if x == GHOST:
                             break
                         ic, st = incircle_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], P[x, 0], P[x, 1], iccb)
@@ -510,17 +509,26 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                             break
                         # (l, lc, x) is not Delaunay: flip l-lc with its ghost.
                         tt = e // 3
-                        t_lc_x = _twin(T, _next(e))
-                        t_x_l = _twin(T, _prev(e))
+                        t_lc_x = T[_hidx(_next(e))]
+                        t_x_l = T[_hidx(_prev(e))]
                         g1 = T[6 * GL + 4]
                         g2 = T[6 * GL + 5]
-                        _set(T, tt, x, l, GHOST)
-                        _set(T, GL, lc, x, GHOST)
-                        _link(T, 3 * tt, t_x_l)
-                        _link(T, 3 * tt + 1, g1)
-                        _link(T, 3 * tt + 2, 3 * GL + 1)
-                        _link(T, 3 * GL, t_lc_x)
-                        _link(T, 3 * GL + 2, g2)
+                        T[6 * tt] = x
+                        T[6 * tt + 1] = l
+                        T[6 * tt + 2] = GHOST
+                        T[6 * GL] = lc
+                        T[6 * GL + 1] = x
+                        T[6 * GL + 2] = GHOST
+                        T[_hidx(3 * tt)] = t_x_l
+                        T[_hidx(t_x_l)] = 3 * tt
+                        T[_hidx(3 * tt + 1)] = g1
+                        T[_hidx(g1)] = 3 * tt + 1
+                        T[_hidx(3 * tt + 2)] = 3 * GL + 1
+                        T[_hidx(3 * GL + 1)] = 3 * tt + 2
+                        T[_hidx(3 * GL)] = t_lc_x
+                        T[_hidx(t_lc_x)] = 3 * GL
+                        T[_hidx(3 * GL + 2)] = g2
+                        T[_hidx(g2)] = 3 * GL + 2
                         GL = tt
                         lc = x
                         o, st = orient2d_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], ccwb)
@@ -539,7 +547,7 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     rvalid = o > 0.0
                     while rvalid:
                         e = T[6 * GR + 3]
-                        x = _vert(T, _prev(e))
+                        x = T[_vidx(_prev(e))]
                         if x == GHOST:
                             break
                         ic, st = incircle_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], P[x, 0], P[x, 1], iccb)
@@ -549,17 +557,26 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                         if ic <= 0.0:
                             break
                         tt = e // 3
-                        t_r_x = _twin(T, _next(e))
-                        t_x_rc = _twin(T, _prev(e))
+                        t_r_x = T[_hidx(_next(e))]
+                        t_x_rc = T[_hidx(_prev(e))]
                         g1 = T[6 * GR + 4]
                         g2 = T[6 * GR + 5]
-                        _set(T, GR, r, x, GHOST)
-                        _set(T, tt, x, rc, GHOST)
-                        _link(T, 3 * GR, t_r_x)
-                        _link(T, 3 * GR + 1, 3 * tt + 2)
-                        _link(T, 3 * GR + 2, g2)
-                        _link(T, 3 * tt, t_x_rc)
-                        _link(T, 3 * tt + 1, g1)
+                        T[6 * GR] = r
+                        T[6 * GR + 1] = x
+                        T[6 * GR + 2] = GHOST
+                        T[6 * tt] = x
+                        T[6 * tt + 1] = rc
+                        T[6 * tt + 2] = GHOST
+                        T[_hidx(3 * GR)] = t_r_x
+                        T[_hidx(t_r_x)] = 3 * GR
+                        T[_hidx(3 * GR + 1)] = 3 * tt + 2
+                        T[_hidx(3 * tt + 2)] = 3 * GR + 1
+                        T[_hidx(3 * GR + 2)] = g2
+                        T[_hidx(g2)] = 3 * GR + 2
+                        T[_hidx(3 * tt)] = t_x_rc
+                        T[_hidx(t_x_rc)] = 3 * tt
+                        T[_hidx(3 * tt + 1)] = g1
+                        T[_hidx(g1)] = 3 * tt + 1
                         rc = x
                         o, st = orient2d_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], ccwb)
                         n_orient += 1
@@ -581,13 +598,22 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     a2 = T[6 * A + 5]
                     g0 = T[6 * GR + 3]
                     g1 = T[6 * GR + 4]
-                    _set(T, A, l, r, rc)
-                    _set(T, GR, l, rc, GHOST)
-                    _link(T, 3 * A, a0)
-                    _link(T, 3 * A + 1, g0)
-                    _link(T, 3 * A + 2, 3 * GR)
-                    _link(T, 3 * GR + 1, g1)
-                    _link(T, 3 * GR + 2, a2)
+                    T[6 * A] = l
+                    T[6 * A + 1] = r
+                    T[6 * A + 2] = rc
+                    T[6 * GR] = l
+                    T[6 * GR + 1] = rc
+                    T[6 * GR + 2] = GHOST
+                    T[_hidx(3 * A)] = a0
+                    T[_hidx(a0)] = 3 * A
+                    T[_hidx(3 * A + 1)] = g0
+                    T[_hidx(g0)] = 3 * A + 1
+                    T[_hidx(3 * A + 2)] = 3 * GR
+                    T[_hidx(3 * GR)] = 3 * A + 2
+                    T[_hidx(3 * GR + 1)] = g1
+                    T[_hidx(g1)] = 3 * GR + 1
+                    T[_hidx(3 * GR + 2)] = a2
+                    T[_hidx(a2)] = 3 * GR + 2
                     A = GR
                     r = rc
                 else:
@@ -596,13 +622,22 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     a1 = T[6 * A + 4]
                     g0 = T[6 * GL + 3]
                     g2 = T[6 * GL + 5]
-                    _set(T, A, l, r, lc)
-                    _set(T, GL, lc, r, GHOST)
-                    _link(T, 3 * A, a0)
-                    _link(T, 3 * A + 1, 3 * GL)
-                    _link(T, 3 * A + 2, g0)
-                    _link(T, 3 * GL + 1, a1)
-                    _link(T, 3 * GL + 2, g2)
+                    T[6 * A] = l
+                    T[6 * A + 1] = r
+                    T[6 * A + 2] = lc
+                    T[6 * GL] = lc
+                    T[6 * GL + 1] = r
+                    T[6 * GL + 2] = GHOST
+                    T[_hidx(3 * A)] = a0
+                    T[_hidx(a0)] = 3 * A
+                    T[_hidx(3 * A + 1)] = 3 * GL
+                    T[_hidx(3 * GL)] = 3 * A + 1
+                    T[_hidx(3 * A + 2)] = g0
+                    T[_hidx(g0)] = 3 * A + 2
+                    T[_hidx(3 * GL + 1)] = a1
+                    T[_hidx(a1)] = 3 * GL + 1
+                    T[_hidx(3 * GL + 2)] = g2
+                    T[_hidx(g2)] = 3 * GL + 2
                     A = GL
                     l = lc
             ghost_out[l_bottom] = B

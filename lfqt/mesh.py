@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from .predicates import CCW_A, ICC_A, N_COUNTERS, incircle, orient2d
+from .predicates import (CCW_A, ICC_A, ISP_A, N_COUNTERS, O3D_A, incircle, insphere_staged,
+                         orient2d, orient3d_staged)
 
 
 @dataclass
@@ -201,6 +202,162 @@ def _all_collinear(xs, ys, ids, a, b):
     return True
 
 
+@njit(cache=True)
+def _check_cells3(P, simplices, neighbors):
+    """3D: (non-positive cells, asymmetric neighbours, non-Delaunay faces,
+    first bad cell)."""
+    m = simplices.shape[0]
+    bad_orient = 0
+    bad_nb = 0
+    not_delaunay = 0
+    first = -1
+    for t in range(m):
+        a, b, c, d = simplices[t, 0], simplices[t, 1], simplices[t, 2], simplices[t, 3]
+        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[c, 0], P[c, 1], P[c, 2], P[d, 0], P[d, 1], P[d, 2], O3D_A)
+        if o <= 0.0:
+            bad_orient += 1
+            if first < 0:
+                first = t
+        for i in range(4):
+            u = neighbors[t, i]
+            if u < 0:
+                continue
+            if u >= m:
+                bad_nb += 1
+                continue
+            apex = -1
+            back = False
+            for j in range(4):
+                v = simplices[u, j]
+                inside = False
+                for k in range(4):
+                    if k != i and simplices[t, k] == v:
+                        inside = True
+                if not inside:
+                    apex = v
+                    back = neighbors[u, j] == t
+            if not back:
+                bad_nb += 1
+                if first < 0:
+                    first = t
+            elif u > t:
+                e = apex
+                s_, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                         P[c, 0], P[c, 1], P[c, 2], P[d, 0], P[d, 1], P[d, 2],
+                                         P[e, 0], P[e, 1], P[e, 2], ISP_A)
+                if s_ > 0.0:
+                    not_delaunay += 1
+                    if first < 0:
+                        first = t
+    return bad_orient, bad_nb, not_delaunay, first
+
+
+@njit(cache=True)
+def _reflex_hull_edges(P, faces, edge_face, edge_other):
+    """Hull edges whose two outward faces bend outward (non-convex)."""
+    bad = 0
+    for k in range(edge_face.shape[0]):
+        f = edge_face[k]
+        g = edge_other[k]
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        # the vertex of g not on the shared edge
+        q = -1
+        for j in range(3):
+            v = faces[g, j]
+            if v != a and v != b and v != c:
+                q = v
+        if q < 0:
+            continue
+        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2], O3D_A)
+        if o > 0.0:
+            bad += 1
+    return bad
+
+
+def _oriented_faces(simplices):
+    """Outward faces (m*4, 3) of right-handed tetrahedra, face i opposite
+    vertex i, with the owning (cell, i)."""
+    m = len(simplices)
+    faces = np.empty((m, 4, 3), dtype=np.int64)
+    for i in range(4):
+        rest = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4]
+        if i % 2 == 1:
+            rest[0], rest[1] = rest[1], rest[0]
+        faces[:, i] = simplices[:, rest]
+    # orientation flips for the face opposite an even index are handled by the swap above
+    return faces.reshape(-1, 3)
+
+
+def _verify3(P, simplices, neighbors, dup, problems, checks, counts):
+    n = len(P)
+    bad_orient, bad_nb, not_delaunay, first = _check_cells3(P, simplices, neighbors)
+    faces = _oriented_faces(simplices)
+    srt = np.sort(faces, axis=1)
+    # parity of the sort: is the face an even permutation of its sorted form?
+    rank = np.argsort(faces, axis=1)
+    parity = ((rank[:, 0] > rank[:, 1]).astype(int) + (rank[:, 0] > rank[:, 2]) +
+              (rank[:, 1] > rank[:, 2])) % 2
+    order = np.lexsort((parity, srt[:, 2], srt[:, 1], srt[:, 0]))
+    key = np.column_stack((srt, parity))[order]
+    same = np.all(key[1:] == key[:-1], axis=1)
+    dup_oriented = int(np.count_nonzero(same))
+    nbr = neighbors.reshape(-1)
+    boundary = faces[nbr < 0]
+    # every undirected face: twice with opposite parity (interior) or once (hull)
+    und = np.all(key[1:, :3] == key[:-1, :3], axis=1)
+    interior_pairs = int(np.count_nonzero(und))
+    mismatch = (len(faces) - 2 * interior_pairs) != len(boundary)
+    counts.update(bad_orientation=int(bad_orient), bad_neighbors=int(bad_nb),
+                  repeated_oriented_faces=dup_oriented, hull_faces=int(len(boundary)),
+                  non_delaunay_faces=int(not_delaunay), first_bad_cell=int(first))
+    _problem(problems, checks, "orientation", bad_orient,
+             f"{bad_orient} tetrahedra are not positively oriented")
+    _problem(problems, checks, "manifold", bad_nb or dup_oriented or mismatch,
+             f"facet structure broken: {bad_nb} asymmetric neighbours, {dup_oriented} repeated "
+             "oriented faces" + (", hull faces do not match the unpaired faces" if mismatch else ""))
+    # hull surface: closed, edge-manifold, connected, Euler characteristic 2, locally convex
+    fb = len(boundary)
+    directed = np.concatenate([boundary[:, [0, 1]], boundary[:, [1, 2]], boundary[:, [2, 0]]])
+    owner = np.tile(np.arange(fb), 3)
+    fwd = directed[:, 0] * n + directed[:, 1]
+    rev = directed[:, 1] * n + directed[:, 0]
+    o = np.argsort(fwd)
+    sf = fwd[o]
+    pos = np.searchsorted(sf, rev)
+    found = (pos < len(sf)) & (sf[np.minimum(pos, len(sf) - 1)] == rev)
+    closed = bool(found.all()) and len(np.unique(fwd)) == len(fwd)
+    reflex = 0
+    connected = False
+    euler = None
+    if closed and fb:
+        other = owner[o[pos]]
+        reflex = int(_reflex_hull_edges(P, boundary.astype(np.int64), owner, other))
+        parent = np.arange(fb)
+
+        def root(x):
+            while parent[x] != x:
+                parent[x] = parent[parent[x]]
+                x = parent[x]
+            return x
+        for a, b in zip(owner, other):
+            ra, rb = root(a), root(b)
+            if ra != rb:
+                parent[ra] = rb
+        connected = len({root(x) for x in range(fb)}) == 1
+        euler = len(np.unique(boundary)) - len(fwd) // 2 + fb
+    counts.update(reflex_hull_edges=reflex, hull_euler=euler)
+    _problem(problems, checks, "convex_boundary",
+             not (closed and connected and euler == 2 and reflex == 0),
+             f"hull surface is not one closed convex sphere (closed {closed}, connected "
+             f"{connected}, Euler {euler}, {reflex} reflex edges)")
+    checks["coverage"] = checks["orientation"] and checks["manifold"] and checks["convex_boundary"]
+    _problem(problems, checks, "delaunay", not_delaunay,
+             f"{not_delaunay} interior faces are not locally Delaunay")
+    return boundary
+
+
 def _problem(problems, checks, name, bad, sentence):
     checks[name] = not bad
     if bad:
@@ -214,7 +371,9 @@ def verify(points, tri):
     ``neighbors``, ``hull`` and optionally ``duplicate_of``), whoever built
     it.  Returns a :class:`VerifyReport`.
     """
-    from .api import _exact_coordinates
+    from .api import _exact_coordinates, _exact_points3
+    if np.asarray(points).ndim == 2 and np.asarray(points).shape[1] == 3:
+        return _verify_3d(_exact_points3(points), tri)
     xs, ys = _exact_coordinates(points)
     n = xs.shape[0]
     simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64)
@@ -276,4 +435,40 @@ def verify(points, tri):
         nxt = np.roll(hull, -1)
         hull_ok = bool(np.all(out_next[hull] == nxt))
     _problem(problems, checks, "hull", not hull_ok, "hull is not the counter-clockwise boundary loop")
+    return VerifyReport(not problems, checks, problems, counts)
+
+
+def _verify_3d(P, tri):
+    n = len(P)
+    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64).reshape(-1, 4)
+    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64).reshape(-1, 4)
+    dup = getattr(tri, "duplicate_of", None)
+    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
+    problems, checks = [], {}
+    counts = {"tetrahedra": int(len(simplices)), "points": int(n)}
+    _problem(problems, checks, "indices", bool(simplices.size and (simplices.min() < 0
+                                                                 or simplices.max() >= n)),
+             "indices out of range")
+    if not checks["indices"]:
+        return VerifyReport(False, checks, problems, counts)
+    rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(P[dup] == P))
+    _problem(problems, checks, "duplicates", not rep_ok,
+             "duplicate_of maps a row to a different point or to a non-representative")
+    distinct = np.flatnonzero(dup == np.arange(n))
+    if len(simplices) == 0:
+        _problem(problems, checks, "flag", not getattr(tri, "degenerate", True),
+                 "no tetrahedra but not flagged degenerate")
+        return VerifyReport(not problems, checks, problems, counts)
+    boundary = _verify3(P, simplices, neighbors, dup, problems, checks, counts)
+    used = np.zeros(n, dtype=bool)
+    used[simplices.ravel()] = True
+    missing = int(np.count_nonzero(~used[distinct]))
+    dup_used = int(np.count_nonzero(used & (dup != np.arange(n))))
+    _problem(problems, checks, "all_points_used", missing or dup_used,
+             f"{missing} distinct points are not vertices, {dup_used} duplicates are")
+    hull = np.asarray(getattr(tri, "hull", boundary))
+    if hull.ndim == 2 and hull.shape[1] == 3:
+        same = {tuple(np.roll(f, -int(np.argmin(f)))) for f in boundary.tolist()} == \
+            {tuple(np.roll(f, -int(np.argmin(f)))) for f in hull.tolist()}
+        _problem(problems, checks, "hull", not same, "hull facets differ from the boundary faces")
     return VerifyReport(not problems, checks, problems, counts)

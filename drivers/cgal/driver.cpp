@@ -17,6 +17,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 #include <CGAL/version.h>
+#include <sys/resource.h>
 #include <x86intrin.h>
 
 #include <chrono>
@@ -145,6 +146,22 @@ struct Clock {
     return {std::chrono::duration<double>(t1 - t0).count(), c1 - c0};
   }
 };
+
+static long current_rss_bytes() {
+  long pages = 0, resident = 0;
+  FILE* f = std::fopen("/proc/self/statm", "r");
+  if (f) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return resident * 4096L;
+}
+
+static long peak_rss_bytes() {
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss * 1024L;
+}
 
 struct Result {
   double seconds = 0;
@@ -301,15 +318,18 @@ int main(int argc, char** argv) {
       order = reinterpret_cast<const std::int64_t*>(ord.data.data());
     }
     const double* xy = reinterpret_cast<const double*>(pts.data.data());
+    long baseline = current_rss_bytes();
     Result r = dim == 2 ? (count ? run2<CountingK>(xy, n, order, ordered) : run2<Epick>(xy, n, order, false))
                         : (count ? run3<CountingK>(xy, n, order, ordered) : run3<Epick>(xy, n, order, false));
     if (!out_path.empty()) write_npy_i64(out_path, r.simplices, r.simplices.size() / (dim + 1), dim + 1);
     std::printf("{\"op\": \"%s\", \"n\": %ld, \"seconds\": %.9f, \"tsc_cycles\": %llu, "
                 "\"vertices\": %ld, \"simplices\": %ld, \"counted\": %s, \"orientation\": %llu, "
-                "\"%s\": %llu, \"conflicts\": %llu, \"cgal_version\": \"%s\"}\n",
+                "\"%s\": %llu, \"conflicts\": %llu, \"baseline_rss_bytes\": %ld, "
+                "\"peak_rss_bytes\": %ld, \"cgal_version\": \"%s\"}\n",
                 op.c_str(), n, r.seconds, r.cycles, r.vertices, r.cells, count ? "true" : "false",
                 (unsigned long long)g_orient, dim == 2 ? "incircle" : "insphere",
-                (unsigned long long)g_incircle, (unsigned long long)r.conflicts, CGAL_VERSION_STR);
+                (unsigned long long)g_incircle, (unsigned long long)r.conflicts, baseline,
+                peak_rss_bytes(), CGAL_VERSION_STR);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cgal_driver: %s\n", e.what());

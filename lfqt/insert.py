@@ -1,0 +1,469 @@
+"""Incremental Delaunay (Bowyer–Watson) in 2D and 3D, in a given order.
+
+Cells are rows of flat arrays: ``C[c]`` holds the d+1 vertices (input
+indices), ``N[c, i]`` the cell across the face opposite vertex i.  The hull
+is closed by *infinite* cells containing the vertex ``INF`` (-1), so every
+face has two cells.  Finite cells are positively oriented (counter-clockwise
+in 2D, right-handed in 3D); an infinite cell is oriented so that putting a
+point beyond its hull facet in place of ``INF`` gives a positive cell.
+
+Inserting p: a remembering visibility walk from the hint's cell (counting
+orientation tests, paper 2's location cost), then the cavity of cells whose
+circumsphere *strictly* contains p (counting them, paper 2's conflicts), then
+one new cell per cavity-boundary facet.  With the strict test p lies strictly
+on the cavity side of every boundary facet, even for cospherical input (the
+region inside one sphere and outside-or-on the other lies strictly on one
+side of their common facet), so no cell is ever flat.  An infinite cell
+conflicts when p is beyond its hull facet, or on its plane and strictly
+inside the facet's circumcircle.  Freed cells go to a free list; storage
+doubles when full.
+"""
+import numpy as np
+from numba import njit
+
+from .predicates import CCW_A, ICC_A, ISP_A, O3D_A, incircle_staged, insphere_staged, \
+    orient2d_staged, orient3d_staged
+
+INF = -1
+# counters
+K_ORIENT, K_CONFLICTS, K_INSPHERE, K_LOCATE_CYCLES, K_CAVITY_CYCLES, K_DUPLICATES, \
+    K_EXACT = range(7)
+N_K = 7
+COUNTER_NAMES = ("orientation_tests", "conflicts", "insphere_tests", "locate_cycles",
+                 "cavity_cycles", "duplicates", "exact_stage")
+
+
+@njit(cache=True, inline="always")
+def _orient(P, d, a, b, c, e):
+    """Orientation of the points a, b, c (and e in 3D): (value, stage)."""
+    if d == 2:
+        return orient2d_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1], CCW_A)
+    return orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                           P[c, 0], P[c, 1], P[c, 2], P[e, 0], P[e, 1], P[e, 2], O3D_A)
+
+
+@njit(cache=True)
+def _orient_replaced(P, d, C, c, i, p):
+    """Orientation of cell c with its vertex i replaced by point p."""
+    v0 = p if i == 0 else C[c, 0]
+    v1 = p if i == 1 else C[c, 1]
+    v2 = p if i == 2 else C[c, 2]
+    v3 = 0
+    if d == 3:
+        v3 = p if i == 3 else C[c, 3]
+    return _orient(P, d, v0, v1, v2, v3)
+
+
+@njit(cache=True)
+def _strictly_inside_facet_circle(P, d, C, c, f, p, span):
+    """p lies on the hull facet's line/plane (cell c minus its INF at f):
+    is it strictly inside the facet's circumcircle (2D: the open segment)?"""
+    if d == 2:
+        a = C[c, (f + 1) % 3]
+        b = C[c, (f + 2) % 3]
+        for ax in range(2):
+            lo = min(P[a, ax], P[b, ax])
+            hi = max(P[a, ax], P[b, ax])
+            if lo < hi:
+                return lo < P[p, ax] < hi
+        return False
+    a = C[c, (f + 1) % 4]
+    b = C[c, (f + 2) % 4]
+    e = C[c, (f + 3) % 4]
+    # Any sphere through a, b, e meets their plane in their circumcircle: use
+    # one through a point q off the plane (found exactly among three offsets).
+    for ax in range(3):
+        qx, qy, qz = P[a, 0], P[a, 1], P[a, 2]
+        if ax == 0:
+            qx = qx + span
+        elif ax == 1:
+            qy = qy + span
+        else:
+            qz = qz + span
+        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[e, 0], P[e, 1], P[e, 2], qx, qy, qz, O3D_A)
+        if o != 0.0:
+            s, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                    P[e, 0], P[e, 1], P[e, 2], qx, qy, qz,
+                                    P[p, 0], P[p, 1], P[p, 2], ISP_A)
+            return s * o > 0.0
+    return False
+
+
+@njit(cache=True)
+def _in_conflict(P, d, C, c, p, span, counts):
+    """Does p lie strictly inside the circumsphere of cell c?"""
+    f = -1
+    for i in range(d + 1):
+        if C[c, i] == INF:
+            f = i
+    if f >= 0:
+        o, st = _orient_replaced(P, d, C, c, f, p)
+        counts[K_ORIENT] += 1
+        if o > 0.0:
+            return True
+        if o < 0.0:
+            return False
+        return _strictly_inside_facet_circle(P, d, C, c, f, p, span)
+    counts[K_INSPHERE] += 1
+    a, b, e = C[c, 0], C[c, 1], C[c, 2]
+    if d == 2:
+        s, st = incircle_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[e, 0], P[e, 1],
+                                P[p, 0], P[p, 1], ICC_A)
+    else:
+        g = C[c, 3]
+        s, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[e, 0], P[e, 1], P[e, 2], P[g, 0], P[g, 1], P[g, 2],
+                                P[p, 0], P[p, 1], P[p, 2], ISP_A)
+    if st == 2:
+        counts[K_EXACT] += 1
+    return s > 0.0
+
+
+@njit(cache=True)
+def _same_point(P, d, a, b):
+    for k in range(d):
+        if P[a, k] != P[b, k]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _initial_simplex(P, d, perm):
+    """Positions in ``perm`` of the first d+1 affinely independent points, or
+    (-1, ...) when there are none (all equal / collinear / coplanar)."""
+    n = perm.shape[0]
+    pick = np.full(4, -1, dtype=np.int64)
+    if n == 0:
+        return pick
+    pick[0] = 0
+    k = 1
+    for t in range(1, n):
+        q = perm[t]
+        if k == 1:
+            if not _same_point(P, d, perm[pick[0]], q):
+                pick[1] = t
+                k = 2
+        elif k == 2:
+            a = perm[pick[0]]
+            b = perm[pick[1]]
+            collinear = True
+            for ax in range(3 if d == 3 else 1):
+                i0, i1 = (0, 1) if ax == 0 else ((0, 2) if ax == 1 else (1, 2))
+                o, st = orient2d_staged(P[a, i0], P[a, i1], P[b, i0], P[b, i1],
+                                        P[q, i0], P[q, i1], CCW_A)
+                if o != 0.0:
+                    collinear = False
+            if not collinear:
+                pick[2] = t
+                k = 3
+                if d == 2:
+                    return pick
+        else:
+            o, st = _orient(P, 3, perm[pick[0]], perm[pick[1]], perm[pick[2]], q)
+            if o != 0.0:
+                pick[3] = t
+                return pick
+    pick[:] = -1
+    return pick
+
+
+@njit(cache=True)
+def _hash_slot(keys, stamps, stamp, key, mask):
+    h = (key * 0x9E3779B97F4A7C15) & mask
+    while stamps[h] == stamp and keys[h] != key:
+        h = (h + 1) & mask
+    return h
+
+
+@njit(cache=True)
+def insert_all(P, d, perm, hint, span):
+    """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
+    counts, ok).  ok is False when the points span fewer than d dimensions."""
+    n = P.shape[0]
+    counts = np.zeros(N_K, dtype=np.int64)
+    dup_of = np.arange(n)
+    width = d + 1
+    cap = max(16, 8 * n)
+    C = np.empty((cap, width), dtype=np.int64)
+    N = np.empty((cap, width), dtype=np.int64)
+    alive = np.zeros(cap, dtype=np.bool_)
+    mark = np.zeros(cap, dtype=np.int64)
+    vcell = np.full(n, -1, dtype=np.int64)
+    free = np.empty(cap, dtype=np.int64)
+    nfree = 0
+    ncells = 0
+    pick = _initial_simplex(P, d, perm)
+    if pick[0] < 0 or pick[d] < 0:
+        return C[:0], N[:0], alive[:0], 0, dup_of, counts, False
+
+    # initial simplex and its d+1 infinite cells
+    s = np.empty(width, dtype=np.int64)
+    for k in range(width):
+        s[k] = perm[pick[k]]
+    o, st = _orient(P, d, s[0], s[1], s[2], s[3] if d == 3 else 0)
+    if o < 0.0:
+        s[0], s[1] = s[1], s[0]
+    for k in range(width):
+        C[0, k] = s[k]
+    for i in range(width):
+        c = 1 + i
+        for k in range(width):
+            C[c, k] = s[k]
+        C[c, i] = INF
+        # beyond facet i means on the other side from s[i]: swap two finite slots
+        j0 = (i + 1) % width
+        j1 = (i + 2) % width
+        C[c, j0], C[c, j1] = C[c, j1], C[c, j0]
+    ncells = width + 1
+    for c in range(ncells):
+        alive[c] = True
+    for c in range(ncells):
+        for i in range(width):
+            # neighbour across face i: the other cell holding all of c's vertices but C[c, i]
+            for c2 in range(ncells):
+                if c2 == c:
+                    continue
+                shared = 0
+                for k in range(width):
+                    if k == i:
+                        continue
+                    for k2 in range(width):
+                        if C[c2, k2] == C[c, k]:
+                            shared += 1
+                if shared == d:
+                    N[c, i] = c2
+    for k in range(width):
+        vcell[s[k]] = 0
+
+    # scratch for cavities
+    stack = np.empty(64, dtype=np.int64)
+    conflicts = np.empty(64, dtype=np.int64)
+    bcell = np.empty(64, dtype=np.int64)
+    bface = np.empty(64, dtype=np.int64)
+    hcap = 256
+    hkeys = np.empty(hcap, dtype=np.int64)
+    hvals = np.empty(hcap, dtype=np.int64)
+    hstamps = np.zeros(hcap, dtype=np.int64)
+    stamp = 0
+    last = s[0]
+    rnd = np.uint64(88172645463325252)
+    # the picked points first, then the rest in order
+    for t in range(n):
+        is_pick = False
+        for k in range(width):
+            if pick[k] == t:
+                is_pick = True
+        if is_pick:
+            continue
+        p = perm[t]
+        h = hint[t]
+        start = vcell[h] if h >= 0 and vcell[h] >= 0 else vcell[last]
+        # ---- locate: remembering visibility walk
+        c = start
+        for i in range(width):
+            if C[c, i] == INF:
+                c = N[c, i]
+                break
+        prev = -1
+        outside = False
+        while True:
+            rnd ^= rnd << np.uint64(13)
+            rnd ^= rnd >> np.uint64(7)
+            rnd ^= rnd << np.uint64(17)
+            rot = np.int64(rnd % np.uint64(width))
+            moved = False
+            for q in range(width):
+                i = (q + rot) % width
+                nb = N[c, i]
+                if nb == prev:
+                    continue
+                o, st = _orient_replaced(P, d, C, c, i, p)
+                counts[K_ORIENT] += 1
+                if o < 0.0:
+                    prev = c
+                    c = nb
+                    moved = True
+                    break
+            if not moved:
+                break
+            is_inf = False
+            for i in range(width):
+                if C[c, i] == INF:
+                    is_inf = True
+            if is_inf:
+                outside = True
+                break
+        if not outside:
+            dup = -1
+            for i in range(width):
+                if _same_point(P, d, C[c, i], p):
+                    dup = C[c, i]
+            if dup >= 0:
+                dup_of[p] = dup
+                counts[K_DUPLICATES] += 1
+                continue
+        # ---- cavity: cells whose circumsphere strictly contains p
+        stamp += 2
+        nstack = 1
+        stack[0] = c
+        mark[c] = stamp
+        nconf = 0
+        nb_count = 0
+        while nstack > 0:
+            nstack -= 1
+            x = stack[nstack]
+            if nconf == conflicts.shape[0]:
+                conflicts = np.concatenate((conflicts, np.empty(nconf, dtype=np.int64)))
+            conflicts[nconf] = x
+            nconf += 1
+            for i in range(width):
+                y = N[x, i]
+                if mark[y] == stamp:
+                    continue
+                if mark[y] != stamp + 1 and _in_conflict(P, d, C, y, p, span, counts):
+                    mark[y] = stamp
+                    if nstack == stack.shape[0]:
+                        stack = np.concatenate((stack, np.empty(nstack, dtype=np.int64)))
+                    stack[nstack] = y
+                    nstack += 1
+                else:
+                    mark[y] = stamp + 1
+                    if nb_count == bcell.shape[0]:
+                        bcell = np.concatenate((bcell, np.empty(nb_count, dtype=np.int64)))
+                        bface = np.concatenate((bface, np.empty(nb_count, dtype=np.int64)))
+                    bcell[nb_count] = x
+                    bface[nb_count] = i
+                    nb_count += 1
+        counts[K_CONFLICTS] += nconf
+        # ---- one new cell per boundary facet
+        while 4 * d * nb_count > hcap:
+            hcap *= 2
+            hkeys = np.empty(hcap, dtype=np.int64)
+            hvals = np.empty(hcap, dtype=np.int64)
+            hstamps = np.zeros(hcap, dtype=np.int64)
+        mask = hcap - 1
+        for b in range(nb_count):
+            x = bcell[b]
+            i = bface[b]
+            y = N[x, i]
+            if nfree > 0:
+                nfree -= 1
+                w = free[nfree]
+            else:
+                if ncells == C.shape[0]:
+                    grow = C.shape[0]
+                    C = np.concatenate((C, np.empty((grow, width), dtype=np.int64)))
+                    N = np.concatenate((N, np.empty((grow, width), dtype=np.int64)))
+                    alive = np.concatenate((alive, np.zeros(grow, dtype=np.bool_)))
+                    mark = np.concatenate((mark, np.zeros(grow, dtype=np.int64)))
+                    free = np.concatenate((free, np.empty(grow, dtype=np.int64)))
+                w = ncells
+                ncells += 1
+            alive[w] = True
+            mark[w] = 0
+            for k in range(width):
+                C[w, k] = C[x, k]
+            C[w, i] = p
+            N[w, i] = y
+            for k in range(width):
+                if N[y, k] == x:
+                    N[y, k] = w
+            for k in range(width):
+                v = C[w, k]
+                if v >= 0:
+                    vcell[v] = w
+            # faces through p: match them by their ridge (the facet minus one vertex)
+            for k in range(width):
+                if k == i:
+                    continue
+                if d == 2:
+                    key = C[w, 3 - i - k] + 1
+                else:
+                    u = -2
+                    for m in range(width):
+                        if m != i and m != k:
+                            if u == -2:
+                                u = C[w, m]
+                            else:
+                                v = C[w, m]
+                    lo = min(u, v) + 1
+                    hi = max(u, v) + 1
+                    key = lo * (n + 1) + hi
+                slot = _hash_slot(hkeys, hstamps, stamp, key, mask)
+                if hstamps[slot] == stamp:
+                    other = hvals[slot]
+                    w2 = other // width
+                    k2 = other % width
+                    N[w, k] = w2
+                    N[w2, k2] = w
+                else:
+                    hstamps[slot] = stamp
+                    hkeys[slot] = key
+                    hvals[slot] = w * width + k
+        for q in range(nconf):
+            x = conflicts[q]
+            alive[x] = False
+            free[nfree] = x
+            nfree += 1
+        last = p
+    return C[:ncells], N[:ncells], alive[:ncells], ncells, dup_of, counts, True
+
+
+@njit(cache=True)
+def finite_cells(C, N, alive):
+    """(simplices, neighbors) of the live finite cells, neighbours renumbered,
+    -1 across the hull."""
+    m = C.shape[0]
+    width = C.shape[1]
+    newid = np.full(m, -1, dtype=np.int64)
+    k = 0
+    for c in range(m):
+        if alive[c]:
+            finite = True
+            for i in range(width):
+                if C[c, i] < 0:
+                    finite = False
+            if finite:
+                newid[c] = k
+                k += 1
+    simplices = np.empty((k, width), dtype=np.int32)
+    neighbors = np.empty((k, width), dtype=np.int32)
+    for c in range(m):
+        j = newid[c]
+        if j < 0:
+            continue
+        for i in range(width):
+            simplices[j, i] = C[c, i]
+            neighbors[j, i] = newid[N[c, i]]
+    return simplices, neighbors
+
+
+@njit(cache=True)
+def hull_facets(C, alive):
+    """Hull facets (2D: edges as a counter-clockwise loop is built by the
+    caller) of the live infinite cells, oriented outward."""
+    m = C.shape[0]
+    width = C.shape[1]
+    out = np.empty((m, width - 1), dtype=np.int64)
+    k = 0
+    for c in range(m):
+        if not alive[c]:
+            continue
+        f = -1
+        for i in range(width):
+            if C[c, i] < 0:
+                f = i
+        if f < 0:
+            continue
+        # the infinite cell with INF -> beyond-point is positive: its facet,
+        # in cyclic order after f, faces outward
+        for j in range(width - 1):
+            out[k, j] = C[c, (f + 1 + j) % width]
+        if width == 4 and f % 2 == 0:
+            # rotating a 4-tuple by f+1 places is odd when f is even
+            t = out[k, 0]
+            out[k, 0] = out[k, 1]
+            out[k, 1] = t
+        k += 1
+    return out[:k]

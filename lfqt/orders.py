@@ -1,0 +1,259 @@
+"""Insertion orders for incremental Delaunay (Liu et al. 2013, and peers).
+
+Every order is data: ``(perm, hint)`` int64 arrays, where ``perm[k]`` is the
+input index inserted k-th and ``hint[k]`` the input index of an already
+inserted point to start locating from (-1: none).
+
+* ``kdtree``: breadth-first labels of a Kd-tree built by cutting the longest
+  edge of each subset's bounding box at the median (O(n) selection per node,
+  O(n log n) in all); hint = parent (paper Appendix I), or the left sibling
+  for right children with ``hint="sibling"``.
+* ``kdtree-alternate``: the same with the cyclic x, y(, z) rule, which the
+  paper found slower (ablation).
+* ``hilbert``: points sorted by the index of their cell on a Hilbert curve of
+  the bounding cube cut into (2^k)^d cells (paper 2, section 1.1).
+* ``brio``: shuffle, then rounds of geometrically growing size (ratio 0.25
+  in 2D, 0.125 in 3D), each round in Hilbert order (Amenta et al.; CGAL's
+  multiscale sort).
+* ``random`` and ``input``.
+
+For every order but the Kd ones the hint is the point inserted just before.
+"""
+import numpy as np
+from numba import njit
+
+ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "brio", "random", "input")
+BRIO_RATIO = {2: 0.25, 3: 0.125}
+BRIO_MIN_ROUND = 64
+
+
+@njit(cache=True)
+def _select_axis(ids, lo, hi, k, P, axis):
+    """Partition ids[lo:hi] by P[:, axis] so that ids[k] holds the element of
+    rank k - lo (nth_element); ties broken by index for determinism."""
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        a, b, c = ids[lo], ids[mid], ids[hi - 1]
+        va, vb, vc = P[a, axis], P[b, axis], P[c, axis]
+        # median of three values
+        if (va <= vb) == (vb <= vc):
+            pv, pi = vb, b
+        elif (vb <= va) == (va <= vc):
+            pv, pi = va, a
+        else:
+            pv, pi = vc, c
+        i = lo
+        j = hi - 1
+        while i <= j:
+            while P[ids[i], axis] < pv or (P[ids[i], axis] == pv and ids[i] < pi):
+                i += 1
+            while P[ids[j], axis] > pv or (P[ids[j], axis] == pv and ids[j] > pi):
+                j -= 1
+            if i <= j:
+                t = ids[i]
+                ids[i] = ids[j]
+                ids[j] = t
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j + 1
+        elif k >= i:
+            lo = i
+        else:
+            return
+
+
+@njit(cache=True)
+def kdtree_order(P, alternate, sibling):
+    n, d = P.shape
+    ids = np.arange(n)
+    perm = np.empty(n, dtype=np.int64)
+    hint = np.empty(n, dtype=np.int64)
+    # breadth-first queue of (lo, hi, parent point, left sibling point, depth)
+    q_lo = np.empty(n, dtype=np.int64)
+    q_hi = np.empty(n, dtype=np.int64)
+    q_parent = np.empty(n, dtype=np.int64)
+    q_sib = np.empty(n, dtype=np.int64)
+    q_depth = np.empty(n, dtype=np.int64)
+    head = 0
+    tail = 0
+    if n:
+        q_lo[0], q_hi[0], q_parent[0], q_sib[0], q_depth[0] = 0, n, -1, -1, 0
+        tail = 1
+    while head < tail:
+        lo, hi = q_lo[head], q_hi[head]
+        parent, depth = q_parent[head], q_depth[head]
+        # a node's label is its queue slot, so the left sibling (the slot
+        # before) is already labelled when its right sibling comes up
+        sib = perm[q_sib[head]] if q_sib[head] >= 0 else -1
+        if alternate:
+            axis = depth % d
+        else:
+            axis = 0
+            best = -1.0
+            for a in range(d):
+                mn = np.inf
+                mx = -np.inf
+                for t in range(lo, hi):
+                    v = P[ids[t], a]
+                    mn = min(mn, v)
+                    mx = max(mx, v)
+                if mx - mn > best:
+                    best = mx - mn
+                    axis = a
+        m = lo + (hi - lo) // 2
+        _select_axis(ids, lo, hi, m, P, axis)
+        v = ids[m]
+        perm[head] = v
+        hint[head] = sib if (sibling and sib >= 0) else parent
+        left_slot = -1
+        if m > lo:
+            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail], q_depth[tail] = lo, m, v, -1, depth + 1
+            left_slot = tail
+            tail += 1
+        if hi > m + 1:
+            q_lo[tail], q_hi[tail], q_parent[tail], q_depth[tail] = m + 1, hi, v, depth + 1
+            q_sib[tail] = left_slot
+            tail += 1
+        head += 1
+    return perm, hint
+
+
+@njit(cache=True)
+def _hilbert_index_2d(x, y, bits):
+    """Skilling's transform: Hilbert index of integer cell (x, y)."""
+    X0 = x
+    X1 = y
+    M = 1 << (bits - 1)
+    Q = M
+    while Q > 1:
+        P_ = Q - 1
+        if X0 & Q:
+            X0 ^= P_
+        if X1 & Q:
+            X0 ^= P_
+        else:
+            t = (X0 ^ X1) & P_
+            X0 ^= t
+            X1 ^= t
+        Q >>= 1
+    X1 ^= X0
+    t = 0
+    Q = M
+    while Q > 1:
+        if X1 & Q:
+            t ^= Q - 1
+        Q >>= 1
+    X0 ^= t
+    X1 ^= t
+    h = 0
+    for b in range(bits - 1, -1, -1):
+        h = (h << 2) | (((X0 >> b) & 1) << 1) | ((X1 >> b) & 1)
+    return h
+
+
+@njit(cache=True)
+def _hilbert_index_3d(x, y, z, bits):
+    X = np.empty(3, dtype=np.int64)
+    X[0] = x
+    X[1] = y
+    X[2] = z
+    M = 1 << (bits - 1)
+    Q = M
+    while Q > 1:
+        P_ = Q - 1
+        for i in range(3):
+            if X[i] & Q:
+                X[0] ^= P_
+            else:
+                t = (X[0] ^ X[i]) & P_
+                X[0] ^= t
+                X[i] ^= t
+        Q >>= 1
+    for i in range(1, 3):
+        X[i] ^= X[i - 1]
+    t = 0
+    Q = M
+    while Q > 1:
+        if X[2] & Q:
+            t ^= Q - 1
+        Q >>= 1
+    for i in range(3):
+        X[i] ^= t
+    h = 0
+    for b in range(bits - 1, -1, -1):
+        for i in range(3):
+            h = (h << 1) | ((X[i] >> b) & 1)
+    return h
+
+
+@njit(cache=True)
+def hilbert_keys(P, ids):
+    """Hilbert index of each point's cell in the bounding cube of P[ids]
+    cut into (2^k)^d cells (k = 31 in 2D, 21 in 3D)."""
+    n = ids.shape[0]
+    d = P.shape[1]
+    bits = 31 if d == 2 else 21
+    lo = np.full(d, np.inf)
+    hi = np.full(d, -np.inf)
+    for t in range(n):
+        for a in range(d):
+            v = P[ids[t], a]
+            lo[a] = min(lo[a], v)
+            hi[a] = max(hi[a], v)
+    span = 0.0
+    for a in range(d):
+        span = max(span, hi[a] - lo[a])
+    scale = ((1 << bits) - 1) / span if span > 0 else 0.0
+    keys = np.empty(n, dtype=np.int64)
+    for t in range(n):
+        c0 = min(int((P[ids[t], 0] - lo[0]) * scale), (1 << bits) - 1)
+        c1 = min(int((P[ids[t], 1] - lo[1]) * scale), (1 << bits) - 1)
+        if d == 2:
+            keys[t] = _hilbert_index_2d(c0, c1, bits)
+        else:
+            c2 = min(int((P[ids[t], 2] - lo[2]) * scale), (1 << bits) - 1)
+            keys[t] = _hilbert_index_3d(c0, c1, c2, bits)
+    return keys
+
+
+def _hilbert_sorted(P, ids):
+    return ids[np.argsort(hilbert_keys(P, ids), kind="stable")]
+
+
+def _previous_as_hint(perm):
+    hint = np.empty_like(perm)
+    if len(perm):
+        hint[0] = -1
+        hint[1:] = perm[:-1]
+    return hint
+
+
+def order(points, name="kdtree", *, hint="parent", seed=0):
+    """(perm, hint) for inserting ``points`` (n, d) in order ``name``."""
+    P = np.ascontiguousarray(points, dtype=np.float64)
+    n = len(P)
+    if name not in ORDERS:
+        raise ValueError(f"unknown order {name!r}; known: {', '.join(ORDERS)}")
+    if hint not in ("parent", "sibling"):
+        raise ValueError("hint must be 'parent' or 'sibling'")
+    if name in ("kdtree", "kdtree-alternate"):
+        perm, h = kdtree_order(P, name == "kdtree-alternate", hint == "sibling")
+        return perm, h
+    rng = np.random.default_rng(seed)
+    if name == "input":
+        perm = np.arange(n, dtype=np.int64)
+    elif name == "random":
+        perm = rng.permutation(n).astype(np.int64)
+    elif name == "hilbert":
+        perm = _hilbert_sorted(P, np.arange(n, dtype=np.int64))
+    else:  # brio
+        shuffled = rng.permutation(n).astype(np.int64)
+        ratio = BRIO_RATIO[P.shape[1]]
+        cuts = [n]
+        while cuts[-1] * ratio >= BRIO_MIN_ROUND:
+            cuts.append(int(cuts[-1] * ratio))
+        cuts.append(0)
+        rounds = [shuffled[cuts[i + 1]:cuts[i]] for i in range(len(cuts) - 1)][::-1]
+        perm = np.concatenate([_hilbert_sorted(P, r) for r in rounds]) if n else shuffled
+    return perm, _previous_as_hint(perm)
