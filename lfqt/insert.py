@@ -34,98 +34,42 @@ COUNTER_NAMES = ("orientation_tests", "conflicts", "insphere_tests", "locate_cyc
 
 
 @njit(cache=True, inline="always")
-def _orient(P, d, a, b, c, e):
-    """Orientation of the points a, b, c (and e in 3D): (value, stage)."""
+def _orient_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez):
+    """Orientation of a, b, c (2D, z ignored) or of a, b, c, e (3D)."""
     if d == 2:
-        return orient2d_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1], CCW_A)
-    return orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                           P[c, 0], P[c, 1], P[c, 2], P[e, 0], P[e, 1], P[e, 2], O3D_A)
+        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A)
+    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A)
+
+
+@njit(cache=True, inline="always")
+def _insphere_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz):
+    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e."""
+    if d == 2:
+        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A)
+    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A)
 
 
 @njit(cache=True)
-def _orient_replaced(P, d, C, c, i, p):
-    """Orientation of cell c with its vertex i replaced by point p."""
-    v0 = p if i == 0 else C[c, 0]
-    v1 = p if i == 1 else C[c, 1]
-    v2 = p if i == 2 else C[c, 2]
-    v3 = 0
-    if d == 3:
-        v3 = p if i == 3 else C[c, 3]
-    return _orient(P, d, v0, v1, v2, v3)
-
-
-@njit(cache=True)
-def _strictly_inside_facet_circle(P, d, C, c, f, p, span):
-    """p lies on the hull facet's line/plane (cell c minus its INF at f):
-    is it strictly inside the facet's circumcircle (2D: the open segment)?"""
+def _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span):
+    """p lies on the line (2D: segment a-b) or plane (3D: triangle a, b, e)
+    of a hull facet: is it strictly inside the facet's circumcircle (2D: the
+    open segment)?  Scalars only, like every helper of the insertion loop."""
     if d == 2:
-        a = C[c, (f + 1) % 3]
-        b = C[c, (f + 2) % 3]
-        for ax in range(2):
-            lo = min(P[a, ax], P[b, ax])
-            hi = max(P[a, ax], P[b, ax])
-            if lo < hi:
-                return lo < P[p, ax] < hi
-        return False
-    a = C[c, (f + 1) % 4]
-    b = C[c, (f + 2) % 4]
-    e = C[c, (f + 3) % 4]
+        if min(ax, bx) < max(ax, bx):
+            return min(ax, bx) < px < max(ax, bx)
+        return min(ay, by) < py < max(ay, by)
     # Any sphere through a, b, e meets their plane in their circumcircle: use
     # one through a point q off the plane (found exactly among three offsets).
-    for ax in range(3):
-        qx, qy, qz = P[a, 0], P[a, 1], P[a, 2]
-        if ax == 0:
-            qx = qx + span
-        elif ax == 1:
-            qy = qy + span
-        else:
-            qz = qz + span
-        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[e, 0], P[e, 1], P[e, 2], qx, qy, qz, O3D_A)
+    for axis in range(3):
+        qx = ax + span if axis == 0 else ax
+        qy = ay + span if axis == 1 else ay
+        qz = az + span if axis == 2 else az
+        o, st = orient3d_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz, O3D_A)
         if o != 0.0:
-            s, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                    P[e, 0], P[e, 1], P[e, 2], qx, qy, qz,
-                                    P[p, 0], P[p, 1], P[p, 2], ISP_A)
+            s, st = insphere_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz,
+                                    px, py, pz, ISP_A)
             return s * o > 0.0
     return False
-
-
-@njit(cache=True)
-def _in_conflict(P, d, C, c, p, span, counts):
-    """Does p lie strictly inside the circumsphere of cell c?"""
-    f = -1
-    for i in range(d + 1):
-        if C[c, i] == INF:
-            f = i
-    if f >= 0:
-        o, st = _orient_replaced(P, d, C, c, f, p)
-        counts[K_ORIENT] += 1
-        if o > 0.0:
-            return True
-        if o < 0.0:
-            return False
-        return _strictly_inside_facet_circle(P, d, C, c, f, p, span)
-    counts[K_INSPHERE] += 1
-    a, b, e = C[c, 0], C[c, 1], C[c, 2]
-    if d == 2:
-        s, st = incircle_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[e, 0], P[e, 1],
-                                P[p, 0], P[p, 1], ICC_A)
-    else:
-        g = C[c, 3]
-        s, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[e, 0], P[e, 1], P[e, 2], P[g, 0], P[g, 1], P[g, 2],
-                                P[p, 0], P[p, 1], P[p, 2], ISP_A)
-    if st == 2:
-        counts[K_EXACT] += 1
-    return s > 0.0
-
-
-@njit(cache=True)
-def _same_point(P, d, a, b):
-    for k in range(d):
-        if P[a, k] != P[b, k]:
-            return False
-    return True
 
 
 @njit(cache=True)
@@ -141,7 +85,8 @@ def _initial_simplex(P, d, perm):
     for t in range(1, n):
         q = perm[t]
         if k == 1:
-            if not _same_point(P, d, perm[pick[0]], q):
+            a = perm[pick[0]]
+            if P[a, 0] != P[q, 0] or P[a, 1] != P[q, 1] or P[a, d - 1] != P[q, d - 1]:
                 pick[1] = t
                 k = 2
         elif k == 2:
@@ -160,7 +105,9 @@ def _initial_simplex(P, d, perm):
                 if d == 2:
                     return pick
         else:
-            o, st = _orient(P, 3, perm[pick[0]], perm[pick[1]], perm[pick[2]], q)
+            a, b, c = perm[pick[0]], perm[pick[1]], perm[pick[2]]
+            o, st = _orient_pts(3, P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2])
             if o != 0.0:
                 pick[3] = t
                 return pick
@@ -169,22 +116,236 @@ def _initial_simplex(P, d, perm):
 
 
 @njit(cache=True)
-def _hash_slot(keys, stamps, stamp, key, mask):
-    h = (key * 0x9E3779B97F4A7C15) & mask
-    while stamps[h] == stamp and keys[h] != key:
-        h = (h + 1) & mask
-    return h
-
+def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free, state,
+                  counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals, hstamps):
+    """Insert perm[t0:] until done (returns (n, 0)) or until the cell arrays
+    (reason 1) or the cavity scratch (2) are too small for the next point,
+    before touching it; returns (t, reason) to resume after growing.  No
+    array is reassigned in here: that would cost numba reference counting
+    on every iteration."""
+    n = perm.shape[0]
+    width = d + 1
+    ncells, nfree, stamp, last = state[0], state[1], state[2], state[3]
+    rnd = np.uint64(88172645463325252 + t0)
+    for t in range(t0, n):
+        is_pick = False
+        for k in range(width):
+            if pick[k] == t:
+                is_pick = True
+        if is_pick:
+            continue
+        p = perm[t]
+        h = hint[t]
+        orient_before = counts[K_ORIENT]
+        insphere_before = counts[K_INSPHERE]
+        exact_before = counts[K_EXACT]
+        aborted = False
+        start = vcell[h] if h >= 0 and vcell[h] >= 0 else vcell[last]
+        # ---- locate: remembering visibility walk
+        c = start
+        for i in range(width):
+            if C[c, i] == INF:
+                c = N[c, i]
+                break
+        prev = -1
+        outside = False
+        while True:
+            rnd ^= rnd << np.uint64(13)
+            rnd ^= rnd >> np.uint64(7)
+            rnd ^= rnd << np.uint64(17)
+            rot = np.int64(rnd % np.uint64(width))
+            moved = False
+            for q in range(width):
+                i = (q + rot) % width
+                nb = N[c, i]
+                if nb == prev:
+                    continue
+                v0 = p if i == 0 else C[c, 0]
+                v1 = p if i == 1 else C[c, 1]
+                v2 = p if i == 2 else C[c, 2]
+                v3 = (p if i == 3 else C[c, 3]) if d == 3 else v0
+                o, st = _orient_pts(d, P[v0, 0], P[v0, 1], P[v0, d - 1], P[v1, 0], P[v1, 1],
+                                    P[v1, d - 1], P[v2, 0], P[v2, 1], P[v2, d - 1],
+                                    P[v3, 0], P[v3, 1], P[v3, d - 1])
+                counts[K_ORIENT] += 1
+                if o < 0.0:
+                    prev = c
+                    c = nb
+                    moved = True
+                    break
+            if not moved:
+                break
+            is_inf = False
+            for i in range(width):
+                if C[c, i] == INF:
+                    is_inf = True
+            if is_inf:
+                outside = True
+                break
+        if not outside:
+            dup = -1
+            for i in range(width):
+                v = C[c, i]
+                if P[v, 0] == P[p, 0] and P[v, 1] == P[p, 1] and P[v, d - 1] == P[p, d - 1]:
+                    dup = v
+            if dup >= 0:
+                dup_of[p] = dup
+                counts[K_DUPLICATES] += 1
+                continue
+        # ---- cavity: cells whose circumsphere strictly contains p
+        stamp += 2
+        nstack = 1
+        stack[0] = c
+        mark[c] = stamp
+        nconf = 0
+        nb_count = 0
+        while nstack > 0 and not aborted:
+            nstack -= 1
+            x = stack[nstack]
+            if nconf == conflicts.shape[0]:
+                aborted = True
+                break
+            conflicts[nconf] = x
+            nconf += 1
+            for i in range(width):
+                y = N[x, i]
+                if mark[y] == stamp:
+                    continue
+                conflict = False
+                if mark[y] != stamp + 1:
+                    f = -1
+                    for k in range(width):
+                        if C[y, k] == INF:
+                            f = k
+                    if f >= 0:
+                        # infinite cell: p beyond its hull facet, or on the
+                        # facet's plane and inside its circumcircle
+                        v0 = p if f == 0 else C[y, 0]
+                        v1 = p if f == 1 else C[y, 1]
+                        v2 = p if f == 2 else C[y, 2]
+                        v3 = (p if f == 3 else C[y, 3]) if d == 3 else v0
+                        o, st = _orient_pts(d, P[v0, 0], P[v0, 1], P[v0, d - 1], P[v1, 0],
+                                            P[v1, 1], P[v1, d - 1], P[v2, 0], P[v2, 1],
+                                            P[v2, d - 1], P[v3, 0], P[v3, 1], P[v3, d - 1])
+                        if o > 0.0:
+                            conflict = True
+                        elif o == 0.0:
+                            fa = C[y, (f + 1) % width]
+                            fb = C[y, (f + 2) % width]
+                            fe = C[y, (f + 3) % width] if d == 3 else fa
+                            conflict = _inside_facet_circle(
+                                d, P[fa, 0], P[fa, 1], P[fa, d - 1], P[fb, 0], P[fb, 1],
+                                P[fb, d - 1], P[fe, 0], P[fe, 1], P[fe, d - 1], P[p, 0],
+                                P[p, 1], P[p, d - 1], span)
+                    else:
+                        counts[K_INSPHERE] += 1
+                        a, b, e = C[y, 0], C[y, 1], C[y, 2]
+                        g = C[y, 3] if d == 3 else a
+                        sv, st = _insphere_pts(d, P[a, 0], P[a, 1], P[a, d - 1], P[b, 0],
+                                               P[b, 1], P[b, d - 1], P[e, 0], P[e, 1],
+                                               P[e, d - 1], P[g, 0], P[g, 1], P[g, d - 1],
+                                               P[p, 0], P[p, 1], P[p, d - 1])
+                        if st == 2:
+                            counts[K_EXACT] += 1
+                        conflict = sv > 0.0
+                if conflict:
+                    mark[y] = stamp
+                    if nstack == stack.shape[0]:
+                        aborted = True
+                        break
+                    stack[nstack] = y
+                    nstack += 1
+                else:
+                    mark[y] = stamp + 1
+                    if nb_count == bcell.shape[0]:
+                        aborted = True
+                        break
+                    bcell[nb_count] = x
+                    bface[nb_count] = i
+                    nb_count += 1
+        if aborted or 4 * d * nb_count > hkeys.shape[0] or \
+                ncells + max(nb_count - nfree, 0) > C.shape[0]:
+            # nothing is modified yet: undo this point's counts and let the caller
+            # grow the scratch (2) or the cell arrays (1), then retry the point
+            counts[K_ORIENT] = orient_before
+            counts[K_INSPHERE] = insphere_before
+            counts[K_EXACT] = exact_before
+            state[0], state[1], state[2], state[3] = ncells, nfree, stamp, last
+            return t, (2 if aborted or 4 * d * nb_count > hkeys.shape[0] else 1)
+        counts[K_CONFLICTS] += nconf
+        # ---- one new cell per boundary facet
+        mask = hkeys.shape[0] - 1
+        for b in range(nb_count):
+            x = bcell[b]
+            i = bface[b]
+            y = N[x, i]
+            if nfree > 0:
+                nfree -= 1
+                w = free[nfree]
+            else:
+                w = ncells
+                ncells += 1
+            alive[w] = True
+            mark[w] = 0
+            for k in range(width):
+                C[w, k] = C[x, k]
+            C[w, i] = p
+            N[w, i] = y
+            for k in range(width):
+                if N[y, k] == x:
+                    N[y, k] = w
+            for k in range(width):
+                v = C[w, k]
+                if v >= 0:
+                    vcell[v] = w
+            # faces through p: match them by their ridge (the facet minus one vertex)
+            for k in range(width):
+                if k == i:
+                    continue
+                if d == 2:
+                    key = C[w, 3 - i - k] + 1
+                else:
+                    u = -2
+                    for m in range(width):
+                        if m != i and m != k:
+                            if u == -2:
+                                u = C[w, m]
+                            else:
+                                v = C[w, m]
+                    lo = min(u, v) + 1
+                    hi = max(u, v) + 1
+                    key = lo * (n + 1) + hi
+                slot = (key * 0x9E3779B97F4A7C15) & mask
+                while hstamps[slot] == stamp and hkeys[slot] != key:
+                    slot = (slot + 1) & mask
+                if hstamps[slot] == stamp:
+                    other = hvals[slot]
+                    w2 = other // width
+                    k2 = other % width
+                    N[w, k] = w2
+                    N[w2, k2] = w
+                else:
+                    hstamps[slot] = stamp
+                    hkeys[slot] = key
+                    hvals[slot] = w * width + k
+        for q in range(nconf):
+            x = conflicts[q]
+            alive[x] = False
+            free[nfree] = x
+            nfree += 1
+        last = p
+    state[0], state[1], state[2], state[3] = ncells, nfree, stamp, last
+    return n, 0
 
 @njit(cache=True)
-def insert_all(P, d, perm, hint, span):
+def insert_all(P, d, perm, hint, span, capacity=0):
     """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
     counts, ok).  ok is False when the points span fewer than d dimensions."""
     n = P.shape[0]
     counts = np.zeros(N_K, dtype=np.int64)
     dup_of = np.arange(n)
     width = d + 1
-    cap = max(16, 8 * n)
+    cap = capacity if capacity > 0 else max(16, 8 * n)
     C = np.empty((cap, width), dtype=np.int64)
     N = np.empty((cap, width), dtype=np.int64)
     alive = np.zeros(cap, dtype=np.bool_)
@@ -201,7 +362,10 @@ def insert_all(P, d, perm, hint, span):
     s = np.empty(width, dtype=np.int64)
     for k in range(width):
         s[k] = perm[pick[k]]
-    o, st = _orient(P, d, s[0], s[1], s[2], s[3] if d == 3 else 0)
+    s3 = s[3] if d == 3 else s[0]
+    o, st = _orient_pts(d, P[s[0], 0], P[s[0], 1], P[s[0], d - 1], P[s[1], 0], P[s[1], 1],
+                        P[s[1], d - 1], P[s[2], 0], P[s[2], 1], P[s[2], d - 1],
+                        P[s3, 0], P[s3, 1], P[s3, d - 1])
     if o < 0.0:
         s[0], s[1] = s[1], s[0]
     for k in range(width):
@@ -236,177 +400,40 @@ def insert_all(P, d, perm, hint, span):
     for k in range(width):
         vcell[s[k]] = 0
 
-    # scratch for cavities
-    stack = np.empty(64, dtype=np.int64)
-    conflicts = np.empty(64, dtype=np.int64)
-    bcell = np.empty(64, dtype=np.int64)
-    bface = np.empty(64, dtype=np.int64)
-    hcap = 256
-    hkeys = np.empty(hcap, dtype=np.int64)
-    hvals = np.empty(hcap, dtype=np.int64)
-    hstamps = np.zeros(hcap, dtype=np.int64)
-    stamp = 0
-    last = s[0]
-    rnd = np.uint64(88172645463325252)
-    # the picked points first, then the rest in order
-    for t in range(n):
-        is_pick = False
-        for k in range(width):
-            if pick[k] == t:
-                is_pick = True
-        if is_pick:
-            continue
-        p = perm[t]
-        h = hint[t]
-        start = vcell[h] if h >= 0 and vcell[h] >= 0 else vcell[last]
-        # ---- locate: remembering visibility walk
-        c = start
-        for i in range(width):
-            if C[c, i] == INF:
-                c = N[c, i]
-                break
-        prev = -1
-        outside = False
-        while True:
-            rnd ^= rnd << np.uint64(13)
-            rnd ^= rnd >> np.uint64(7)
-            rnd ^= rnd << np.uint64(17)
-            rot = np.int64(rnd % np.uint64(width))
-            moved = False
-            for q in range(width):
-                i = (q + rot) % width
-                nb = N[c, i]
-                if nb == prev:
-                    continue
-                o, st = _orient_replaced(P, d, C, c, i, p)
-                counts[K_ORIENT] += 1
-                if o < 0.0:
-                    prev = c
-                    c = nb
-                    moved = True
-                    break
-            if not moved:
-                break
-            is_inf = False
-            for i in range(width):
-                if C[c, i] == INF:
-                    is_inf = True
-            if is_inf:
-                outside = True
-                break
-        if not outside:
-            dup = -1
-            for i in range(width):
-                if _same_point(P, d, C[c, i], p):
-                    dup = C[c, i]
-            if dup >= 0:
-                dup_of[p] = dup
-                counts[K_DUPLICATES] += 1
-                continue
-        # ---- cavity: cells whose circumsphere strictly contains p
-        stamp += 2
-        nstack = 1
-        stack[0] = c
-        mark[c] = stamp
-        nconf = 0
-        nb_count = 0
-        while nstack > 0:
-            nstack -= 1
-            x = stack[nstack]
-            if nconf == conflicts.shape[0]:
-                conflicts = np.concatenate((conflicts, np.empty(nconf, dtype=np.int64)))
-            conflicts[nconf] = x
-            nconf += 1
-            for i in range(width):
-                y = N[x, i]
-                if mark[y] == stamp:
-                    continue
-                if mark[y] != stamp + 1 and _in_conflict(P, d, C, y, p, span, counts):
-                    mark[y] = stamp
-                    if nstack == stack.shape[0]:
-                        stack = np.concatenate((stack, np.empty(nstack, dtype=np.int64)))
-                    stack[nstack] = y
-                    nstack += 1
-                else:
-                    mark[y] = stamp + 1
-                    if nb_count == bcell.shape[0]:
-                        bcell = np.concatenate((bcell, np.empty(nb_count, dtype=np.int64)))
-                        bface = np.concatenate((bface, np.empty(nb_count, dtype=np.int64)))
-                    bcell[nb_count] = x
-                    bface[nb_count] = i
-                    nb_count += 1
-        counts[K_CONFLICTS] += nconf
-        # ---- one new cell per boundary facet
-        while 4 * d * nb_count > hcap:
-            hcap *= 2
-            hkeys = np.empty(hcap, dtype=np.int64)
-            hvals = np.empty(hcap, dtype=np.int64)
-            hstamps = np.zeros(hcap, dtype=np.int64)
-        mask = hcap - 1
-        for b in range(nb_count):
-            x = bcell[b]
-            i = bface[b]
-            y = N[x, i]
-            if nfree > 0:
-                nfree -= 1
-                w = free[nfree]
-            else:
-                if ncells == C.shape[0]:
-                    grow = C.shape[0]
-                    C = np.concatenate((C, np.empty((grow, width), dtype=np.int64)))
-                    N = np.concatenate((N, np.empty((grow, width), dtype=np.int64)))
-                    alive = np.concatenate((alive, np.zeros(grow, dtype=np.bool_)))
-                    mark = np.concatenate((mark, np.zeros(grow, dtype=np.int64)))
-                    free = np.concatenate((free, np.empty(grow, dtype=np.int64)))
-                w = ncells
-                ncells += 1
-            alive[w] = True
-            mark[w] = 0
-            for k in range(width):
-                C[w, k] = C[x, k]
-            C[w, i] = p
-            N[w, i] = y
-            for k in range(width):
-                if N[y, k] == x:
-                    N[y, k] = w
-            for k in range(width):
-                v = C[w, k]
-                if v >= 0:
-                    vcell[v] = w
-            # faces through p: match them by their ridge (the facet minus one vertex)
-            for k in range(width):
-                if k == i:
-                    continue
-                if d == 2:
-                    key = C[w, 3 - i - k] + 1
-                else:
-                    u = -2
-                    for m in range(width):
-                        if m != i and m != k:
-                            if u == -2:
-                                u = C[w, m]
-                            else:
-                                v = C[w, m]
-                    lo = min(u, v) + 1
-                    hi = max(u, v) + 1
-                    key = lo * (n + 1) + hi
-                slot = _hash_slot(hkeys, hstamps, stamp, key, mask)
-                if hstamps[slot] == stamp:
-                    other = hvals[slot]
-                    w2 = other // width
-                    k2 = other % width
-                    N[w, k] = w2
-                    N[w2, k2] = w
-                else:
-                    hstamps[slot] = stamp
-                    hkeys[slot] = key
-                    hvals[slot] = w * width + k
-        for q in range(nconf):
-            x = conflicts[q]
-            alive[x] = False
-            free[nfree] = x
-            nfree += 1
-        last = p
+    # scratch for cavities; _insert_range asks for more when a cavity needs it
+    stack = np.empty(256, dtype=np.int64)
+    conflicts = np.empty(256, dtype=np.int64)
+    bcell = np.empty(256, dtype=np.int64)
+    bface = np.empty(256, dtype=np.int64)
+    hkeys = np.empty(4096, dtype=np.int64)
+    hvals = np.empty(4096, dtype=np.int64)
+    hstamps = np.zeros(4096, dtype=np.int64)
+    state = np.array([ncells, 0, 0, s[0]], dtype=np.int64)
+    t = 0
+    while True:
+        t, reason = _insert_range(P, d, perm, hint, span, pick, t, C, N, alive, mark, vcell,
+                                  free, state, counts, dup_of, stack, conflicts, bcell, bface,
+                                  hkeys, hvals, hstamps)
+        if reason == 0:
+            break
+        if reason == 1:
+            grow = C.shape[0]
+            C = np.concatenate((C, np.empty((grow, width), dtype=np.int64)))
+            N = np.concatenate((N, np.empty((grow, width), dtype=np.int64)))
+            alive = np.concatenate((alive, np.zeros(grow, dtype=np.bool_)))
+            mark = np.concatenate((mark, np.zeros(grow, dtype=np.int64)))
+            free = np.concatenate((free, np.empty(grow, dtype=np.int64)))
+        else:
+            m = 2 * stack.shape[0]
+            stack = np.empty(m, dtype=np.int64)
+            conflicts = np.empty(m, dtype=np.int64)
+            bcell = np.empty(m, dtype=np.int64)
+            bface = np.empty(m, dtype=np.int64)
+            h = 2 * hkeys.shape[0]
+            hkeys = np.empty(h, dtype=np.int64)
+            hvals = np.empty(h, dtype=np.int64)
+            hstamps = np.zeros(h, dtype=np.int64)
+    ncells = state[0]
     return C[:ncells], N[:ncells], alive[:ncells], ncells, dup_of, counts, True
 
 

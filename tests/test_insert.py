@@ -1,0 +1,169 @@
+"""Incremental insertion in 2D and 3D: every mesh is verified exactly."""
+import copy
+import itertools
+
+import numpy as np
+import pytest
+import scipy.spatial
+from hypothesis import given, settings, strategies as st
+
+import lfqt
+from lfqt.insert import K_CONFLICTS, finite_cells, insert_all
+from lfqt import orders, predicates as P
+from lfqt.api import _exact_points3
+
+
+def insert_verified(points, **kwargs):
+    tri = lfqt.insert(points, **kwargs)
+    report = lfqt.verify(points, tri)
+    assert report.ok, report.problems
+    return tri
+
+
+def cells(simplices):
+    return {tuple(sorted(map(int, s))) for s in np.asarray(simplices)}
+
+
+def cospherical_integer_points(r2):
+    """All integer points on the sphere x^2 + y^2 + z^2 = r2."""
+    r = int(np.sqrt(r2)) + 1
+    return np.array([p for p in itertools.product(range(-r, r + 1), repeat=3)
+                     if sum(v * v for v in p) == r2], dtype=float)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("order", orders.ORDERS)
+def test_agrees_with_scipy_in_general_position(order, d, rng):
+    pts = rng.random((1500, d))
+    tri = insert_verified(pts, order=order)
+    assert cells(tri.simplices) == cells(scipy.spatial.Delaunay(pts).simplices)
+
+
+@pytest.mark.parametrize("name,pts", [
+    ("grid", np.stack(np.meshgrid(*[np.arange(7)] * 3), -1).reshape(-1, 3).astype(float)),
+    ("cospherical", cospherical_integer_points(50)),
+    ("cospherical+centre", np.r_[cospherical_integer_points(81), [[0.0, 0.0, 0.0]]]),
+    ("coplanar start", np.r_[np.c_[np.random.default_rng(1).random((60, 2)), np.zeros(60)],
+                              np.random.default_rng(2).random((60, 3))]),
+    ("collinear start", np.r_[np.c_[np.arange(30.0), np.zeros(30), np.zeros(30)],
+                               np.random.default_rng(3).random((50, 3)) * 30]),
+    ("faces and edges", np.array([p for p in itertools.product([0, 0.5, 1], repeat=3)])),
+    ("duplicates", np.r_[np.random.default_rng(4).random((200, 3)),
+                         np.random.default_rng(4).random((200, 3))[:50]]),
+])
+@pytest.mark.parametrize("order", ["kdtree", "random", "input"])
+def test_degenerate_3d_sets(name, pts, order):
+    tri = insert_verified(pts, order=order)
+    assert not tri.degenerate
+    if name == "duplicates":
+        assert tri.n_distinct == 200 and tri.stats["counts"]["duplicates"] == 50
+
+
+def test_degenerate_2d_sets():
+    g = np.stack(np.meshgrid(np.arange(20), np.arange(20)), -1).reshape(-1, 2).astype(float)
+    insert_verified(g, order="kdtree")
+    ang = np.arange(12) * np.pi / 6
+    circle = np.c_[np.round(np.cos(ang) * 5), np.round(np.sin(ang) * 5)]
+    insert_verified(np.unique(np.r_[circle, [[0.0, 0.0]]], axis=0), order="input")
+
+
+@pytest.mark.parametrize("pts,d", [
+    (np.c_[np.random.default_rng(0).random((30, 2)), np.zeros(30)], 3),
+    (np.c_[np.arange(10.0), np.arange(10.0), np.arange(10.0)], 3),
+    (np.c_[np.arange(10.0), 2 * np.arange(10.0)], 2),
+    (np.ones((5, 3)), 3),
+])
+def test_lower_dimensional_sets_are_flagged(pts, d):
+    tri = lfqt.insert(pts)
+    assert tri.degenerate and len(tri.simplices) == 0 and tri.simplices.shape[1] == d + 1
+    assert "affinely independent" in tri.reason
+
+
+def test_same_triangulation_for_every_order(rng):
+    pts = rng.random((2000, 3))
+    base = cells(insert_verified(pts, order="kdtree").simplices)
+    for order in orders.ORDERS[1:]:
+        assert cells(lfqt.insert(pts, order=order).simplices) == base
+    assert cells(lfqt.insert(pts, hint="sibling").simplices) == base
+
+
+def test_explicit_order_and_bad_order():
+    pts = np.random.default_rng(0).random((50, 3))
+    perm = np.arange(50)[::-1]
+    tri = insert_verified(pts, order=(perm, np.full(50, -1)))
+    assert tri.stats["order"] == "explicit"
+    with pytest.raises(ValueError, match="permutation"):
+        lfqt.insert(pts, order=(np.zeros(50, int), np.full(50, -1)))
+
+
+def test_growth_paths_give_the_same_mesh():
+    pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]  # centre: a huge cavity
+    P3 = _exact_points3(pts)
+    perm = np.arange(len(pts))
+    hint = np.full(len(pts), -1)
+    small = insert_all(P3, 3, perm, hint, 16.0, 8)  # tiny cell storage, grows many times
+    big = insert_all(P3, 3, perm, hint, 16.0, 0)
+    s_small, _ = finite_cells(small[0], small[1], small[2])
+    s_big, _ = finite_cells(big[0], big[1], big[2])
+    assert cells(s_small) == cells(s_big)
+    assert big[5][K_CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
+    insert_verified(pts, order="input")
+
+
+def test_kdtree_counts_match_paper_two(rng):
+    tri = insert_verified(rng.random((30000, 3)), order="kdtree")
+    per = tri.stats["per_point"]
+    assert 9 < per["orientation_tests"] < 15  # paper 2, Table 8: about 11.7
+    assert 12 < per["conflicts"] < 25  # paper 2 counts 17 inside CGAL
+    assert tri.stats["seconds"]["order"] > 0 and tri.stats["cycles"]["locate"] >= 0
+
+
+def _insphere(pts, cell, p):
+    a, b, c, d = (pts[v] for v in cell)
+    o, _ = P.orient3d_staged(*a, *b, *c, *d, P.O3D_A)
+    s, _ = P.insphere_staged(*a, *b, *c, *d, *p, P.ISP_A)
+    return s * np.sign(o)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(10, 120))
+def test_inserting_a_point_removes_exactly_the_cells_whose_sphere_contains_it(seed, n):
+    pts = np.random.default_rng(seed).random((n, 3))
+    head = np.arange(n - 1)
+    before = lfqt.insert(pts[:-1], order=(head, np.full(n - 1, -1)))
+    after = lfqt.insert(pts, order=(np.arange(n), np.full(n, -1)))
+    removed = cells(before.simplices) - cells(after.simplices)
+    expect = {c for c in cells(before.simplices) if _insphere(pts, c, pts[-1]) > 0}
+    assert removed == expect
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(*[st.integers(-3, 3).map(float)] * 3), min_size=5, max_size=60),
+       st.sampled_from(["kdtree", "brio", "input"]))
+def test_random_integer_sets_are_delaunay(points, order):
+    pts = np.array(points)
+    tri = lfqt.insert(pts, order=order)
+    assert lfqt.verify(pts, tri).ok
+    assert tri.n_distinct == len({tuple(p) for p in points})
+
+
+def test_verify_3d_rejects_broken_meshes(rng):
+    pts = rng.random((400, 3))
+    tri = insert_verified(pts)
+    flipped = copy.copy(tri)
+    s = tri.simplices.copy()
+    s[7, [0, 1]] = s[7, [1, 0]]
+    flipped.simplices = s
+    rep = lfqt.verify(pts, flipped)
+    assert not rep.ok and not rep.checks["orientation"]
+    inner = np.flatnonzero((tri.neighbors >= 0).all(axis=1))[0]
+    keep = np.ones(len(tri.simplices), bool)
+    keep[inner] = False
+    remap = np.cumsum(keep) - 1
+    nb = tri.neighbors[keep].copy()
+    nb = np.where(nb == inner, -1, np.where(nb >= 0, remap[np.maximum(nb, 0)], -1))
+    holed = copy.copy(tri)
+    holed.simplices, holed.neighbors = tri.simplices[keep], nb
+    holed.hull = None
+    rep = lfqt.verify(pts, holed)
+    assert not rep.ok and not rep.checks["convex_boundary"]

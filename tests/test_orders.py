@@ -1,0 +1,64 @@
+import numpy as np
+import pytest
+
+from lfqt import orders
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("name", orders.ORDERS)
+def test_orders_are_permutations_with_inserted_hints(name, d, rng):
+    pts = rng.random((777, d))
+    perm, hint = orders.order(pts, name)
+    assert sorted(perm.tolist()) == list(range(777))
+    position = np.empty(777, dtype=int)
+    position[perm] = np.arange(777)
+    for k in range(777):
+        assert hint[k] == -1 or position[hint[k]] < k
+
+
+def test_kdtree_matches_the_papers_15_point_example():
+    # A 1D-ordered line of 15 points: the BFS labels of the median tree are
+    # the paper's p8, p4, p12, p2, p6, p10, p14, p1, ... (Fig. 5c).
+    pts = np.c_[np.arange(1, 16, dtype=float), np.zeros(15)]
+    perm, hint = orders.order(pts, "kdtree")
+    assert (perm + 1).tolist() == [8, 4, 12, 2, 6, 10, 14, 1, 3, 5, 7, 9, 11, 13, 15]
+    assert (hint[1:3] + 1).tolist() == [8, 8] and (hint[3:7] + 1).tolist() == [4, 4, 12, 12]
+
+
+def test_kdtree_cuts_the_longest_edge_and_alternate_does_not():
+    pts = np.c_[np.linspace(0, 1, 9), np.linspace(0, 100, 9)[np.random.default_rng(0).permutation(9)]]
+    perm, _ = orders.order(pts, "kdtree")
+    alt, _ = orders.order(pts, "kdtree-alternate")
+    # root = median of the long axis (y) vs of x
+    assert pts[perm[0], 1] == np.median(pts[:, 1])
+    assert pts[alt[0], 0] == np.median(pts[:, 0])
+
+
+def test_sibling_hint_uses_the_left_sibling():
+    pts = np.c_[np.arange(1, 8, dtype=float), np.zeros(7)]
+    perm, hint = orders.order(pts, "kdtree", hint="sibling")
+    # labels: 4 | 2 6 | 1 3 5 7: node 6's left sibling is 2, node 3's is 1
+    assert (perm + 1).tolist() == [4, 2, 6, 1, 3, 5, 7]
+    assert hint[2] == perm[1] and hint[4] == perm[3]
+
+
+def test_hilbert_visits_neighbouring_cells_consecutively():
+    g = np.stack(np.meshgrid(np.arange(8), np.arange(8)), -1).reshape(-1, 2).astype(float)
+    perm, _ = orders.order(g, "hilbert")
+    steps = np.abs(np.diff(g[perm], axis=0)).sum(axis=1)
+    assert np.all(steps == 1)  # a Hilbert curve moves to an adjacent cell each time
+
+
+def test_brio_rounds_grow_geometrically(rng):
+    pts = rng.random((10000, 3))
+    perm, _ = orders.order(pts, "brio", seed=3)
+    again, _ = orders.order(pts, "brio", seed=3)
+    assert np.array_equal(perm, again)
+    assert not np.array_equal(perm, orders.order(pts, "brio", seed=4)[0])
+
+
+def test_bad_names():
+    with pytest.raises(ValueError, match="unknown order"):
+        orders.order(np.zeros((3, 2)), "morton")
+    with pytest.raises(ValueError, match="hint"):
+        orders.order(np.zeros((3, 2)), "kdtree", hint="grandparent")
