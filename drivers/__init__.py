@@ -2,7 +2,9 @@
 only by registry key; ``make(name)`` returns a fresh instance."""
 from .base import Peer, Result, Unavailable
 from .isolate import Failure, Measurement, measure, measure_isolated
-from .peers import CgalPeer, LfqtDC, QhullPeer, TrianglePeer
+from .peers import CgalPeer, LfqtDC, LfqtInsert, QhullPeer, TrianglePeer
+
+INSERT_ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "brio", "random", "input")
 
 REGISTRY = {
     "lfqt-dc": lambda: LfqtDC("lfqt"),
@@ -17,6 +19,10 @@ REGISTRY = {
     "cgal-dt2-order": lambda: CgalPeer("dt2-order"),
     "cgal-dt3-order": lambda: CgalPeer("dt3-order"),
 }
+for _o in INSERT_ORDERS:
+    REGISTRY[f"lfqt-insert-{_o}"] = (lambda o: lambda: LfqtInsert(o))(_o)
+    for _op in ("dt2-order", "dt3-order"):
+        REGISTRY[f"cgal-{_op[:3]}-{_o}"] = (lambda op, o: lambda: CgalPeer(op, o))(_op, _o)
 
 
 def make(name):
@@ -27,7 +33,7 @@ def make(name):
 
 
 def names(dim=None):
-    return [k for k in REGISTRY if dim is None or make(k).dim == dim]
+    return [k for k in REGISTRY if dim is None or dim in make(k).dims]
 
 
 def available(name):

@@ -31,7 +31,8 @@ def main(argv):
         for name in REGISTRY:
             ok, why = available(name)
             peer = make(name)
-            print(f"{name:24s} {peer.dim}D  {peer.family:9s} {'ok' if ok else 'unavailable: ' + why}")
+            dims = "/".join(f"{d}D" for d in peer.dims)
+            print(f"{name:30s} {dims:6s} {peer.family:9s} {'ok' if ok else 'unavailable: ' + why}")
         return 0
     print(__doc__, file=sys.stderr)
     return 2

@@ -25,6 +25,11 @@ class Peer:
     dim = 2  # 2 or 3
     family = ""  # "ours", "cgal", "triangle", "qhull"
 
+    @property
+    def dims(self):
+        """Dimensions the peer accepts."""
+        return (self.dim,)
+
     def version(self):
         return ""
 

@@ -5,6 +5,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 from importlib import metadata
 from pathlib import Path
 
@@ -51,6 +52,40 @@ class LfqtDC(Peer):
     def result(self):
         st = self.tri.stats
         counts = dict(st.get("predicates", {}))
+        counts.update({f"seconds_{k}": v for k, v in st["seconds"].items()})
+        return Result(self.tri.simplices, counts)
+
+
+class LfqtInsert(Peer):
+    """lfqt.insert in a given order; the order is built inside the timed run,
+    as paper 2's times include it."""
+    family = "ours"
+    dims = (2, 3)
+
+    def __init__(self, order):
+        self.order = order
+        self.name = f"lfqt-insert-{order}"
+        self.dim = 3
+
+    def version(self):
+        import lfqt
+        return lfqt.__version__
+
+    def prepare(self, points, order=None, count=False):
+        import lfqt
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.dim = self.points.shape[1]
+        self.tri = None
+        lfqt.insert(self.points[:64], order=self.order)  # JIT warm-up
+
+    def run(self):
+        import lfqt
+        self.tri = None
+        self.tri = lfqt.insert(self.points, order=self.order, counters=True)
+
+    def result(self):
+        st = self.tri.stats
+        counts = dict(st["counts"])
         counts.update({f"seconds_{k}": v for k, v in st["seconds"].items()})
         return Result(self.tri.simplices, counts)
 
@@ -113,10 +148,11 @@ class CgalPeer(Peer):
     """CGAL through drivers/cgal (built by ``python -m drivers build``)."""
     family = "cgal"
 
-    def __init__(self, op):
+    def __init__(self, op, order_name=None):
         self.op = op
         self.dim = 2 if op.startswith("dt2") else 3
-        self.name = f"cgal-{op}"
+        self.order_name = order_name  # build this order (lfqt.orders) inside the timed run
+        self.name = f"cgal-{op[:3]}-{order_name}" if order_name else f"cgal-{op}"
 
     def check(self):
         if not CGAL_BINARY.exists():
@@ -132,19 +168,31 @@ class CgalPeer(Peer):
         self.points_path = os.path.join(self.tmp, "points.npy")
         np.save(self.points_path, np.ascontiguousarray(points, dtype=np.float64))
         self.args = [str(CGAL_BINARY), self.op, self.points_path]
+        self.points = points
+        self.order_seconds = 0.0
         if self.op.endswith("-order"):
-            if order is None:
+            if order is None and self.order_name is None:
                 raise ValueError(f"{self.name} needs an insertion order")
-            perm, hint = order
             self.order_path = os.path.join(self.tmp, "order.npy")
-            np.save(self.order_path, np.stack((perm, hint), axis=1).astype(np.int64))
+            if order is not None:
+                self._write_order(order)
             self.args += ["--order", self.order_path]
         if count:
             self.args.append("--count")
         self.out_path = os.path.join(self.tmp, "simplices.npy")
         self.args += ["--out", self.out_path]
 
+    def _write_order(self, order):
+        perm, hint = order
+        np.save(self.order_path, np.stack((perm, hint), axis=1).astype(np.int64))
+
     def run(self):
+        if self.order_name:
+            from lfqt import orders
+            t0 = time.perf_counter()
+            built = orders.order(self.points, self.order_name)
+            self.order_seconds = time.perf_counter() - t0
+            self._write_order(built)
         proc = subprocess.run(self.args, capture_output=True, text=True)
         if proc.returncode != 0:
             raise RuntimeError(f"cgal_driver failed ({proc.returncode}): {proc.stderr.strip()}")
@@ -152,7 +200,9 @@ class CgalPeer(Peer):
         self._version = self.report.get("cgal_version", "")
 
     def self_timing(self):
-        return self.report["seconds"], self.report["tsc_cycles"]
+        """Driver's in-process time, plus building the order when we build it
+        (paper 2 includes that); cycles are the driver's alone."""
+        return self.report["seconds"] + self.order_seconds, self.report["tsc_cycles"]
 
     def self_memory(self):
         """Peak resident bytes of the driver above its state after loading."""

@@ -13,7 +13,8 @@ import lfqt
 from conftest import triangle_set
 from drivers import peers
 
-PEERS_2D = [n for n in drivers.REGISTRY if drivers.make(n).dim == 2]
+PEERS_2D = drivers.names(2)
+PEERS_3D = drivers.names(3)
 
 
 def require(name):
@@ -36,13 +37,15 @@ def test_2d_peers_agree_with_lfqt(name, rng):
     assert len(m.seconds) == 1 and m.seconds[0] > 0
 
 
-def test_cgal_3d_agrees_with_qhull(rng):
-    require("cgal-dt3")
+@pytest.mark.parametrize("name", PEERS_3D)
+def test_3d_peers_agree_with_lfqt_insert(name, rng):
+    require(name)
     pts = rng.random((800, 3))
-    a = drivers.measure(drivers.make("cgal-dt3"), pts, repeats=1, keep_simplices=True)
-    b = drivers.measure(drivers.make("qhull-3d"), pts, repeats=1, keep_simplices=True)
-    assert tet_set(a.simplices) == tet_set(b.simplices)
-    assert a.cycles[0] > 0
+    order = (rng.permutation(len(pts)), np.full(len(pts), -1)) if name.endswith("-order") else None
+    m = drivers.measure(drivers.make(name), pts, repeats=1, order=order, keep_simplices=True)
+    assert tet_set(m.simplices) == tet_set(lfqt.insert(pts).simplices)
+    if name.startswith("cgal"):
+        assert m.cycles[0] > 0
 
 
 def test_cgal_counts_are_sane(rng):
