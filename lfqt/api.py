@@ -398,6 +398,9 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
                               "conflicts": totals["conflicts"] / inserted,
                               "insphere_tests": totals["insphere_tests"] / inserted}
         stats["cycles"] = {"locate": totals["locate_cycles"], "cavity": totals["cavity_cycles"]}
+        hz = _insert.cycles_per_second()
+        stats["seconds"]["locate"] = totals["locate_cycles"] / hz
+        stats["seconds"]["cavity"] = totals["cavity_cycles"] / hz
     return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
                          duplicate_of=dup_of.astype(idx), stats=stats, degenerate=degenerate,
                          reason=reason)

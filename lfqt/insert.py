@@ -18,8 +18,13 @@ conflicts when p is beyond its hull facet, or on its plane and strictly
 inside the facet's circumcircle.  Freed cells go to a free list; storage
 doubles when full.
 """
+import time
+
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from .predicates import CCW_A, ICC_A, ISP_A, O3D_A, incircle_staged, insphere_staged, \
     orient2d_staged, orient3d_staged
@@ -31,6 +36,35 @@ K_ORIENT, K_CONFLICTS, K_INSPHERE, K_LOCATE_CYCLES, K_CAVITY_CYCLES, K_DUPLICATE
 N_K = 7
 COUNTER_NAMES = ("orientation_tests", "conflicts", "insphere_tests", "locate_cycles",
                  "cavity_cycles", "duplicates", "exact_stage")
+
+
+@intrinsic
+def cycle_counter(typingctx):
+    """The CPU's cycle counter (x86: TSC) via llvm.readcyclecounter."""
+    def codegen(context, builder, signature, args):
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.IntType(64), []),
+                                            "llvm.readcyclecounter")
+        return builder.call(fn, [])
+    return types.int64(), codegen
+
+
+@njit(cache=True)
+def read_cycles():
+    return cycle_counter()
+
+
+_CYCLES_PER_SECOND = None
+
+
+def cycles_per_second():
+    """Cycle-counter frequency, calibrated once against perf_counter."""
+    global _CYCLES_PER_SECOND
+    if _CYCLES_PER_SECOND is None:
+        c0, t0 = read_cycles(), time.perf_counter()
+        time.sleep(0.05)
+        c1, t1 = read_cycles(), time.perf_counter()
+        _CYCLES_PER_SECOND = (c1 - c0) / (t1 - t0)
+    return _CYCLES_PER_SECOND
 
 
 @njit(cache=True, inline="always")
@@ -141,6 +175,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
         exact_before = counts[K_EXACT]
         aborted = False
         start = vcell[h] if h >= 0 and vcell[h] >= 0 else vcell[last]
+        c_start = cycle_counter()
         # ---- locate: remembering visibility walk
         c = start
         for i in range(width):
@@ -182,6 +217,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
             if is_inf:
                 outside = True
                 break
+        c_located = cycle_counter()
         if not outside:
             dup = -1
             for i in range(width):
@@ -334,6 +370,8 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
             free[nfree] = x
             nfree += 1
         last = p
+        counts[K_LOCATE_CYCLES] += c_located - c_start
+        counts[K_CAVITY_CYCLES] += cycle_counter() - c_located
     state[0], state[1], state[2], state[3] = ncells, nfree, stamp, last
     return n, 0
 

@@ -28,8 +28,10 @@ class Triangulation:
     """A Delaunay triangulation in flat arrays (scipy's conventions).
 
     points: the input as given.  simplices: (m, 3) counter-clockwise rows of
-    input indices.  neighbors: (m, 3), neighbour i opposite vertex i, -1 on
-    the hull.  hull: boundary vertex loop, counter-clockwise.  duplicate_of:
+    input indices, or (m, 4) right-handed tetrahedra from ``lfqt.insert`` in
+    3D.  neighbors: same shape, neighbour i opposite vertex i, -1 on the
+    hull.  hull: boundary vertex loop, counter-clockwise (3D: (k, 3) outward
+    facets).  duplicate_of:
     per input row, the row that represents it.  degenerate: True when there
     are fewer than 3 distinct points or all are collinear (then simplices is
     empty and hull holds the extreme points); reason says which.
