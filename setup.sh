@@ -7,4 +7,4 @@ cd "$(dirname "$0")"
 bash .ci/install
 echo
 echo "== main job (small scale) =="
-.venv/bin/python -m experiments.bench_dc --scale small
+.venv/bin/python -m experiments.all --scale default

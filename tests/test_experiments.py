@@ -1,10 +1,15 @@
-"""The benchmark scripts run end to end at a tiny scale."""
+"""The runner and the experiments, end to end at a tiny scale."""
 import csv
+import json
 
-from experiments import bench_dc
+import pytest
+
+from experiments import all as all_experiments
+from experiments import bench_dc, runner
+from experiments.runner import Cell
 
 
-def test_bench_dc_tiny_run(tmp_path, capsys):
+def test_bench_dc_tiny_run(tmp_path):
     out = tmp_path / "bench"
     assert bench_dc.main(["--scale", "small", "--sizes", "3000", "--repeats", "1",
                           "--peers", "lfqt-dc,triangle", "--dists", "uniform,grid",
@@ -14,3 +19,53 @@ def test_bench_dc_tiny_run(tmp_path, capsys):
         ("uniform", "lfqt-dc"), ("uniform", "triangle"), ("grid", "lfqt-dc"), ("grid", "triangle")}
     assert all(r["status"] == "ok" and float(r["median_s"]) > 0 for r in rows)
     assert (out / "bench_dc.meta.json").exists()
+
+
+def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
+    cells = [Cell("lfqt-dc", "uniform", 2000), Cell("triangle", "grid", 2000),
+             Cell("lfqt-insert-kdtree", "cube", 1500, count=True)]
+    d = runner.run("t", cells, repeats=2, out=tmp_path, progress=False)
+    rows = runner.load(d)
+    assert [r["repeat"] for r in rows if r["peer"] == "lfqt-dc"] == [0, 1]
+    assert all(r["status"] == "ok" and r["seconds"] > 0 and r["mpts_per_s"] > 0 for r in rows)
+    counted = [r for r in rows if r["count"]]
+    assert len(counted) == 1 and counted[0]["counts"]["orientation_tests"] > 0
+    meta = json.loads((d / "metadata.json").read_text())
+    assert meta["cores"] and meta["caches"] and "numba" in meta["versions"] and meta["commit"]
+    # a crash after the first two cells: the third line is cut in half
+    log = d / "cells.jsonl"
+    lines = log.read_text().splitlines()
+    log.write_text("\n".join(lines[:2] + [lines[2][:40]]) + "\n")
+    before = {json.loads(l)["key"]: json.loads(l)["outcome"] for l in lines[:2]}
+    runner.run("t", cells, repeats=2, out=tmp_path, progress=False)
+    after = [json.loads(l) for l in log.read_text().splitlines() if l.startswith('{"key"') and l.endswith("}")]
+    kept = {r["key"]: r["outcome"] for r in after if r["key"] in before}
+    assert kept == before  # finished cells are not measured again
+    assert len(runner.load(d)) == 5
+    meta = json.loads((d / "metadata.json").read_text())
+    assert meta["resumed_cells"] == 2
+
+
+def test_failures_are_rows_with_their_reason(tmp_path, monkeypatch):
+    from drivers import peers
+    monkeypatch.setattr(peers, "CGAL_BINARY", tmp_path / "no-driver")
+    cells = [Cell("cgal-dt2", "uniform", 1000), Cell("lfqt-dc", "uniform", 10 ** 12)]
+    rows = runner.load(runner.run("f", cells, repeats=1, out=tmp_path, progress=False))
+    status = {r["peer"]: (r["status"], r["detail"]) for r in rows}
+    assert status["cgal-dt2"][0] == "unavailable" and "drivers build" in status["cgal-dt2"][1]
+    assert status["lfqt-dc"][0] == "skipped" and "GiB" in status["lfqt-dc"][1]
+
+
+def test_main_job_at_smoke_scale(tmp_path, capsys):
+    assert all_experiments.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    for name in ("fig3", "fig4", "liu_table1", "liu_table8"):
+        assert (tmp_path / "figures" / f"{name}.png").stat().st_size > 20000
+        assert (tmp_path / "figures" / f"{name}.svg").exists()
+        rows = runner.load(tmp_path / name)
+        bad = [(r["peer"], r["status"], r["detail"][:80]) for r in rows if r["status"] != "ok"]
+        assert not bad, bad
+    assert "paper at 100k: 2.5x-3x" in text and "conflicts/pt" in text
+    # --plot-only redraws from stored results without measuring
+    from experiments import fig3
+    assert fig3.main(["--scale", "smoke", "--out", str(tmp_path), "--plot-only"]) == 0

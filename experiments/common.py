@@ -1,0 +1,69 @@
+"""What every experiment module shares: its command line, the figure
+output, and the published values."""
+import argparse
+import csv
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import runner
+
+PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
+SCALES = ("smoke", "default", "paper")
+
+
+def published(name):
+    """Rows of results/published/<name>.csv."""
+    return list(csv.DictReader(open(PUBLISHED / f"{name}.csv")))
+
+
+def figure_paths(fig, out, name):
+    d = Path(out) / "figures"
+    d.mkdir(parents=True, exist_ok=True)
+    paths = [d / f"{name}.png", d / f"{name}.svg"]
+    for p in paths:
+        fig.savefig(p, dpi=120, bbox_inches="tight")
+    return paths
+
+
+def main(name, description, grid, plot, argv=None, repeats=3):
+    """Parse the common options, run the grid through the runner (unless
+    --plot-only), then draw the figure from the stored results."""
+    ap = argparse.ArgumentParser(prog=f"python -m experiments.{name}", description=description)
+    ap.add_argument("--scale", choices=SCALES, default="default")
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--peers", type=lambda s: s.split(","), help="registry keys, comma separated")
+    ap.add_argument("--repeats", type=int, default=repeats)
+    ap.add_argument("--force", action="store_true", help="measure finished cells again")
+    ap.add_argument("--out", default="results")
+    ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")
+    ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    args = ap.parse_args(argv)
+    cells = grid(args.scale, args.threads)
+    if args.peers:
+        cells = [c for c in cells if c.peer in args.peers]
+    if not args.plot_only:
+        runner.run(name, cells, repeats=args.repeats, out=args.out, force=args.force,
+                   progress=not args.quiet, command=" ".join(["python -m experiments." + name]
+                                                              + (argv or sys.argv[1:])))
+    rows = runner.load(Path(args.out) / name)
+    import matplotlib
+    matplotlib.use("Agg")
+    paths = plot(rows, args.out, args.scale)
+    for p in paths:
+        print(p)
+    return 0
+
+
+def ratio(a, b):
+    return a / b if a and b else float("nan")
+
+
+def fmt_ratio(x):
+    return "-" if x != x else f"{x:.2f}x"
+
+
+def geometric_mean(values):
+    v = [x for x in values if x and x == x]
+    return float(np.exp(np.mean(np.log(v)))) if v else float("nan")
