@@ -6,5 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")"
 bash .ci/install
 echo
-echo "== main job (small scale) =="
+echo "== main job: experiments at the default scale (about 10 minutes on 2 cores) =="
 .venv/bin/python -m experiments.all --scale default
