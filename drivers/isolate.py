@@ -54,13 +54,17 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
     if warmup:
         peer.run()
     seconds, cycles, own_memory = [], [], []
+    from lfqt.insert import read_cycles
     for _ in range(repeats):
+        c0 = read_cycles()
         t0 = time.perf_counter()
         peer.run()
         wall = time.perf_counter() - t0
+        c1 = read_cycles()
         own = peer.self_timing()
         seconds.append(own[0] if own else wall)
-        cycles.append(own[1] if own else None)
+        # raw cycles: the peer's own (CGAL driver's TSC) or ours around run()
+        cycles.append(own[1] if own else c1 - c0)
         if peer.self_memory() is not None:
             own_memory.append(peer.self_memory())
     res = peer.result()

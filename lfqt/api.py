@@ -362,13 +362,22 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
         order_name = order
     t2 = time.perf_counter()
     span = float(np.abs(P).max(initial=1.0)) or 1.0
-    C, N, alive, ncells, dup_of, cnt, ok = _insert.insert_all(P, d, perm, hints, span)
+    # Store the points in Hilbert order: vertex ids then follow space, so the
+    # cells and coordinates a walk touches are close in memory whatever the
+    # insertion order (the Kd order jumps across space at every level).
+    store = _storage_order(P)
+    rank = np.empty(n, dtype=np.int64)
+    rank[store] = np.arange(n)
+    hint_ids = np.where(hints >= 0, rank[np.maximum(hints, 0)], -1)
+    C, N, alive, ncells, dup_rank, cnt, ok = _insert.insert_all(
+        np.ascontiguousarray(P[store]), d, rank[perm], hint_ids, span)
+    dup_of = store[dup_rank[rank]]
     t3 = time.perf_counter()
     idx = _index_dtype(n)
     degenerate, reason = False, ""
     if ok:
-        simplices, neighbors = _insert.finite_cells(C, N, alive)
-        facets = _insert.hull_facets(C, alive)
+        simplices, neighbors = _insert.finite_cells(C, N, alive, store)
+        facets = _insert.hull_facets(C, alive, store)
         hull = _chain_hull(facets) if d == 2 else facets.astype(idx)
     else:
         degenerate = True
@@ -404,6 +413,13 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
     return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
                          duplicate_of=dup_of.astype(idx), stats=stats, degenerate=degenerate,
                          reason=reason)
+
+
+def _storage_order(P):
+    """A permutation of the rows of P along a Hilbert curve (2D or 3D)."""
+    if len(P) == 0:
+        return np.arange(0)
+    return np.argsort(orders.hilbert_keys(P, np.arange(len(P))), kind="stable")
 
 
 def _chain_hull(edges):

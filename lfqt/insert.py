@@ -476,9 +476,9 @@ def insert_all(P, d, perm, hint, span, capacity=0):
 
 
 @njit(cache=True)
-def finite_cells(C, N, alive):
-    """(simplices, neighbors) of the live finite cells, neighbours renumbered,
-    -1 across the hull."""
+def finite_cells(C, N, alive, ids):
+    """(simplices, neighbors) of the live finite cells, vertices mapped
+    through ``ids``, neighbours renumbered, -1 across the hull."""
     m = C.shape[0]
     width = C.shape[1]
     newid = np.full(m, -1, dtype=np.int64)
@@ -499,13 +499,13 @@ def finite_cells(C, N, alive):
         if j < 0:
             continue
         for i in range(width):
-            simplices[j, i] = C[c, i]
+            simplices[j, i] = ids[C[c, i]]
             neighbors[j, i] = newid[N[c, i]]
     return simplices, neighbors
 
 
 @njit(cache=True)
-def hull_facets(C, alive):
+def hull_facets(C, alive, ids):
     """Hull facets (2D: edges as a counter-clockwise loop is built by the
     caller) of the live infinite cells, oriented outward."""
     m = C.shape[0]
@@ -524,7 +524,7 @@ def hull_facets(C, alive):
         # the infinite cell with INF -> beyond-point is positive: its facet,
         # in cyclic order after f, faces outward
         for j in range(width - 1):
-            out[k, j] = C[c, (f + 1 + j) % width]
+            out[k, j] = ids[C[c, (f + 1 + j) % width]]
         if width == 4 and f % 2 == 0:
             # rotating a 4-tuple by f+1 places is odd when f is even
             t = out[k, 0]

@@ -28,6 +28,7 @@ def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
     rows = runner.load(d)
     assert [r["repeat"] for r in rows if r["peer"] == "lfqt-dc"] == [0, 1]
     assert all(r["status"] == "ok" and r["seconds"] > 0 and r["mpts_per_s"] > 0 for r in rows)
+    assert all(r["cycles"] > 0 and r["seconds_at_3ghz"] > 0 for r in rows)
     counted = [r for r in rows if r["count"]]
     assert len(counted) == 1 and counted[0]["counts"]["orientation_tests"] > 0
     meta = json.loads((d / "metadata.json").read_text())
