@@ -11,6 +11,10 @@ from . import runner
 
 PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
 SCALES = ("smoke", "default", "paper")
+# Per-cell limit (child process: warm-up and repeats).  A peer that is
+# pathological on a set (Qhull on nearly cocircular points) is recorded as a
+# timeout, as paper 1 recorded Triangle failing at 100M points.
+TIMEOUTS = {"smoke": 60.0, "default": 120.0, "paper": 1800.0}
 
 
 def published(name):
@@ -39,12 +43,14 @@ def main(name, description, grid, plot, argv=None, repeats=3):
     ap.add_argument("--out", default="results")
     ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    ap.add_argument("--timeout", type=float, help="seconds per cell (default by scale)")
     args = ap.parse_args(argv)
     cells = grid(args.scale, args.threads)
     if args.peers:
         cells = [c for c in cells if c.peer in args.peers]
     if not args.plot_only:
         runner.run(name, cells, repeats=args.repeats, out=args.out, force=args.force,
+                   timeout=args.timeout or TIMEOUTS[args.scale],
                    progress=not args.quiet, command=" ".join(["python -m experiments." + name]
                                                               + (argv or sys.argv[1:])))
     rows = runner.load(Path(args.out) / name)

@@ -8,14 +8,13 @@ import sys
 import numpy as np
 
 from . import common
+from .liu_table1 import MODEL, SIZES
 from .runner import Cell, summarize
 
-SIZES = {"smoke": [5_000], "default": [100_000, 200_000],
-         "paper": [100_000, 200_000, 300_000, 400_000, 500_000, 600_000]}
+# CGAL's Hilbert here is our Hilbert order through find_conflicts (see above)
 ORDERS = [("kdtree", "lfqt-insert-kdtree", "cgal-dt3-kdtree"),
           ("brio", "lfqt-insert-brio", "cgal-dt3-brio"),
           ("hilbert", "lfqt-insert-hilbert", "cgal-dt3-hilbert")]
-MODEL = "cube"
 TABLE = "Table 8"
 
 

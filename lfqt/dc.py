@@ -165,7 +165,6 @@ def subdivide_top(khi, klo, wide, n, bin_size):
     s_bit = np.empty(_STACK, dtype=np.int64)
     s_state = np.empty(_STACK, dtype=np.int64)
     s_left = np.empty(_STACK, dtype=np.int64)
-    s_right = np.empty(_STACK, dtype=np.int64)
     top = 0
     s_lo[0] = 0
     s_hi[0] = n

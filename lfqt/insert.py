@@ -390,7 +390,6 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     mark = np.zeros(cap, dtype=np.int64)
     vcell = np.full(n, -1, dtype=np.int64)
     free = np.empty(cap, dtype=np.int64)
-    nfree = 0
     ncells = 0
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:

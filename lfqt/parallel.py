@@ -10,7 +10,8 @@ scheduler in Python threads standing in for its atomic counters: numba has
 none, and tasks are coarse), or waits for all merges of the level below
 (``schedule="levels"``, a barrier per level).  On our 2-core machines,
 at 4M uniform points and 2 threads, "levels" measured 1.21-1.43 s and
-"tasks" 1.55-1.83 s (medians of 7, fresh processes), so "levels" is the
+"tasks" 1.55-1.88 s over several series (medians of 7, fresh processes;
+mostly in allocation and output, not in the merges), so "levels" is the
 default; with many cores and deep upper trees "tasks" should win.
 
 The triangulation does not depend on the thread count: the tree, hence every

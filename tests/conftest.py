@@ -13,12 +13,34 @@ settings.register_profile("dev", max_examples=200, deadline=None,
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
-def triangulate_verified(points, **kwargs):
-    """Triangulate and exactly verify; every mesh a test builds goes through here."""
-    tri = lfqt.triangulate(points, **kwargs)
+def verified(build, points, **kwargs):
+    """Build a mesh with ``build`` and verify it exactly; every mesh a test
+    builds goes through here."""
+    tri = build(points, **kwargs)
     report = lfqt.verify(points, tri)
     assert report.ok, report.problems
     return tri
+
+
+def triangulate_verified(points, **kwargs):
+    return verified(lfqt.triangulate, points, **kwargs)
+
+
+def insert_verified(points, **kwargs):
+    return verified(lfqt.insert, points, **kwargs)
+
+
+def without_cell(tri, k):
+    """A copy of ``tri`` with cell k removed and neighbours renumbered (a hole)."""
+    import copy
+    keep = np.ones(len(tri.simplices), bool)
+    keep[k] = False
+    remap = np.cumsum(keep) - 1
+    nb = tri.neighbors[keep].copy()
+    nb = np.where(nb == k, -1, np.where(nb >= 0, remap[np.maximum(nb, 0)], -1))
+    out = copy.copy(tri)
+    out.simplices, out.neighbors = tri.simplices[keep], nb
+    return out
 
 
 def triangle_set(simplices):

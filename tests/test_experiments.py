@@ -2,8 +2,6 @@
 import csv
 import json
 
-import pytest
-
 from experiments import all as all_experiments
 from experiments import bench_dc, runner
 from experiments.runner import Cell

@@ -11,13 +11,7 @@ import lfqt
 from lfqt.insert import K_CONFLICTS, finite_cells, insert_all
 from lfqt import orders, predicates as P
 from lfqt.api import _exact_points3
-
-
-def insert_verified(points, **kwargs):
-    tri = lfqt.insert(points, **kwargs)
-    report = lfqt.verify(points, tri)
-    assert report.ok, report.problems
-    return tri
+from conftest import insert_verified, without_cell
 
 
 def cells(simplices):
@@ -159,14 +153,7 @@ def test_verify_3d_rejects_broken_meshes(rng):
     flipped.simplices = s
     rep = lfqt.verify(pts, flipped)
     assert not rep.ok and not rep.checks["orientation"]
-    inner = np.flatnonzero((tri.neighbors >= 0).all(axis=1))[0]
-    keep = np.ones(len(tri.simplices), bool)
-    keep[inner] = False
-    remap = np.cumsum(keep) - 1
-    nb = tri.neighbors[keep].copy()
-    nb = np.where(nb == inner, -1, np.where(nb >= 0, remap[np.maximum(nb, 0)], -1))
-    holed = copy.copy(tri)
-    holed.simplices, holed.neighbors = tri.simplices[keep], nb
+    holed = without_cell(tri, np.flatnonzero((tri.neighbors >= 0).all(axis=1))[0])
     holed.hull = None
     rep = lfqt.verify(pts, holed)
     assert not rep.ok and not rep.checks["convex_boundary"]

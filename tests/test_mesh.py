@@ -7,7 +7,7 @@ import pytest
 import scipy.spatial
 
 import lfqt
-from conftest import triangulate_verified
+from conftest import triangulate_verified, without_cell
 
 
 @pytest.fixture
@@ -60,13 +60,7 @@ def test_rejects_clockwise_triangle(good):
 
 def test_rejects_missing_triangle(good):
     pts, tri = good
-    inner = np.flatnonzero((tri.neighbors >= 0).all(axis=1))[0]
-    keep = np.ones(len(tri.simplices), bool)
-    keep[inner] = False
-    remap = np.cumsum(keep) - 1
-    nb = tri.neighbors[keep].copy()
-    nb = np.where(nb == inner, -1, np.where(nb >= 0, remap[np.maximum(nb, 0)], -1))
-    rep = lfqt.verify(pts, broken(tri, simplices=tri.simplices[keep], neighbors=nb))
+    rep = lfqt.verify(pts, without_cell(tri, np.flatnonzero((tri.neighbors >= 0).all(axis=1))[0]))
     assert not rep.ok and not rep.checks["convex_boundary"]
 
 
