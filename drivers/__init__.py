@@ -4,7 +4,7 @@ from .base import Peer, Result, Unavailable
 from .isolate import Failure, Measurement, measure, measure_isolated
 from .peers import CgalPeer, LfqtDC, LfqtInsert, QhullPeer, TrianglePeer
 
-INSERT_ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "brio", "random", "input")
+INSERT_ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
 
 REGISTRY = {
     "lfqt-dc": lambda: LfqtDC("lfqt"),

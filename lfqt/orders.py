@@ -10,11 +10,14 @@ inserted point to start locating from (-1: none).
   for right children with ``hint="sibling"``.
 * ``kdtree-alternate``: the same with the cyclic x, y(, z) rule, which the
   paper found slower (ablation).
-* ``hilbert``: points sorted by the index of their cell on a Hilbert curve of
-  the bounding cube cut into (2^k)^d cells (paper 2, section 1.1).
+* ``hilbert``: CGAL-style median Hilbert sort: split at the median along x,
+  then each half along y (and z), recursing into the 4 (8) parts with the
+  axes and directions of the Hilbert curve; adapts to the points' density.
+* ``hilbert-grid``: paper 2's variant: points sorted by the index of their
+  cell on a Hilbert curve of the bounding cube cut into (2^k)^d cells.
 * ``brio``: shuffle, then rounds of geometrically growing size (ratio 0.25
-  in 2D, 0.125 in 3D), each round in Hilbert order (Amenta et al.; CGAL's
-  multiscale sort).
+  in 2D, 0.125 in 3D), each round median-Hilbert sorted (Amenta et al.;
+  CGAL's multiscale sort).
 * ``random`` and ``input``.
 
 For every order but the Kd ones the hint is the point inserted just before.
@@ -22,7 +25,7 @@ For every order but the Kd ones the hint is the point inserted just before.
 import numpy as np
 from numba import njit
 
-ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "brio", "random", "input")
+ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
 BRIO_RATIO = {2: 0.25, 3: 0.125}
 BRIO_MIN_ROUND = 64
 
@@ -217,8 +220,67 @@ def hilbert_keys(P, ids):
     return keys
 
 
-def _hilbert_sorted(P, ids):
-    return ids[np.argsort(hilbert_keys(P, ids), kind="stable")]
+@njit(cache=True)
+def _median_split(ids, lo, hi, P, axis, up):
+    """Split ids[lo:hi] at its median along ``axis``: the lower half first when
+    ``up``, the upper half first otherwise; returns the split position."""
+    if hi - lo < 2:
+        return lo + (hi - lo) // 2
+    mid = lo + (hi - lo) // 2
+    _select_axis(ids, lo, hi, mid, P, axis)
+    if up:
+        return mid
+    ids[lo:hi] = ids[lo:hi][::-1].copy()
+    return lo + (hi - mid)
+
+
+@njit(cache=True)
+def _hilbert_median_2d(P, ids, lo, hi, x, upx, upy):
+    if hi - lo <= 1:
+        return
+    y = 1 - x
+    m2 = _median_split(ids, lo, hi, P, x, upx)
+    m1 = _median_split(ids, lo, m2, P, y, upy)
+    m3 = _median_split(ids, m2, hi, P, y, not upy)
+    _hilbert_median_2d(P, ids, lo, m1, y, upy, upx)
+    _hilbert_median_2d(P, ids, m1, m2, x, upx, upy)
+    _hilbert_median_2d(P, ids, m2, m3, x, upx, upy)
+    _hilbert_median_2d(P, ids, m3, hi, y, not upy, not upx)
+
+
+@njit(cache=True)
+def _hilbert_median_3d(P, ids, lo, hi, x, upx, upy, upz):
+    if hi - lo <= 1:
+        return
+    y = (x + 1) % 3
+    z = (x + 2) % 3
+    m4 = _median_split(ids, lo, hi, P, x, upx)
+    m2 = _median_split(ids, lo, m4, P, y, upy)
+    m1 = _median_split(ids, lo, m2, P, z, upz)
+    m3 = _median_split(ids, m2, m4, P, z, not upz)
+    m6 = _median_split(ids, m4, hi, P, y, not upy)
+    m5 = _median_split(ids, m4, m6, P, z, upz)
+    m7 = _median_split(ids, m6, hi, P, z, not upz)
+    _hilbert_median_3d(P, ids, lo, m1, z, upz, upx, upy)
+    _hilbert_median_3d(P, ids, m1, m2, y, upy, upz, upx)
+    _hilbert_median_3d(P, ids, m2, m3, y, upy, upz, upx)
+    _hilbert_median_3d(P, ids, m3, m4, x, upx, not upy, not upz)
+    _hilbert_median_3d(P, ids, m4, m5, x, upx, not upy, not upz)
+    _hilbert_median_3d(P, ids, m5, m6, y, not upy, upz, not upx)
+    _hilbert_median_3d(P, ids, m6, m7, y, not upy, upz, not upx)
+    _hilbert_median_3d(P, ids, m7, hi, z, not upz, not upx, upy)
+
+
+def _hilbert_sorted(P, ids, grid=False):
+    """ids in Hilbert order: median policy (CGAL's) or grid cells (paper 2)."""
+    if grid:
+        return ids[np.argsort(hilbert_keys(P, ids), kind="stable")]
+    ids = np.array(ids, dtype=np.int64)
+    if P.shape[1] == 2:
+        _hilbert_median_2d(P, ids, 0, len(ids), 0, True, True)
+    else:
+        _hilbert_median_3d(P, ids, 0, len(ids), 0, True, True, True)
+    return ids
 
 
 def _previous_as_hint(perm):
@@ -245,8 +307,8 @@ def order(points, name="kdtree", *, hint="parent", seed=0):
         perm = np.arange(n, dtype=np.int64)
     elif name == "random":
         perm = rng.permutation(n).astype(np.int64)
-    elif name == "hilbert":
-        perm = _hilbert_sorted(P, np.arange(n, dtype=np.int64))
+    elif name in ("hilbert", "hilbert-grid"):
+        perm = _hilbert_sorted(P, np.arange(n, dtype=np.int64), grid=name == "hilbert-grid")
     else:  # brio
         shuffled = rng.permutation(n).astype(np.int64)
         ratio = BRIO_RATIO[P.shape[1]]

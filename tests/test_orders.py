@@ -42,9 +42,12 @@ def test_sibling_hint_uses_the_left_sibling():
     assert hint[2] == perm[1] and hint[4] == perm[3]
 
 
-def test_hilbert_visits_neighbouring_cells_consecutively():
-    g = np.stack(np.meshgrid(np.arange(8), np.arange(8)), -1).reshape(-1, 2).astype(float)
-    perm, _ = orders.order(g, "hilbert")
+@pytest.mark.parametrize("name", ["hilbert", "hilbert-grid"])
+@pytest.mark.parametrize("d,k", [(2, 16), (3, 8)])
+def test_hilbert_orders_visit_neighbouring_cells_consecutively(name, d, k):
+    g = np.stack(np.meshgrid(*[np.arange(k)] * d), -1).reshape(-1, d).astype(float)
+    g = g[np.random.default_rng(0).permutation(len(g))]
+    perm, _ = orders.order(g, name)
     steps = np.abs(np.diff(g[perm], axis=0)).sum(axis=1)
     assert np.all(steps == 1)  # a Hilbert curve moves to an adjacent cell each time
 
