@@ -384,12 +384,12 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     dup_of = np.arange(n)
     width = d + 1
     cap = capacity if capacity > 0 else max(16, 8 * n)
-    C = np.empty((cap, width), dtype=np.int64)
-    N = np.empty((cap, width), dtype=np.int64)
+    C = np.empty((cap, width), dtype=np.int32)
+    N = np.empty((cap, width), dtype=np.int32)
     alive = np.zeros(cap, dtype=np.bool_)
-    mark = np.zeros(cap, dtype=np.int64)
-    vcell = np.full(n, -1, dtype=np.int64)
-    free = np.empty(cap, dtype=np.int64)
+    mark = np.zeros(cap, dtype=np.int32)
+    vcell = np.full(n, -1, dtype=np.int32)
+    free = np.empty(cap, dtype=np.int32)
     ncells = 0
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
@@ -455,11 +455,11 @@ def insert_all(P, d, perm, hint, span, capacity=0):
             break
         if reason == 1:
             grow = C.shape[0]
-            C = np.concatenate((C, np.empty((grow, width), dtype=np.int64)))
-            N = np.concatenate((N, np.empty((grow, width), dtype=np.int64)))
+            C = np.concatenate((C, np.empty((grow, width), dtype=np.int32)))
+            N = np.concatenate((N, np.empty((grow, width), dtype=np.int32)))
             alive = np.concatenate((alive, np.zeros(grow, dtype=np.bool_)))
-            mark = np.concatenate((mark, np.zeros(grow, dtype=np.int64)))
-            free = np.concatenate((free, np.empty(grow, dtype=np.int64)))
+            mark = np.concatenate((mark, np.zeros(grow, dtype=np.int32)))
+            free = np.concatenate((free, np.empty(grow, dtype=np.int32)))
         else:
             m = 2 * stack.shape[0]
             stack = np.empty(m, dtype=np.int64)
