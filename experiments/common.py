@@ -5,7 +5,6 @@ import csv
 import sys
 from pathlib import Path
 
-import numpy as np
 
 from . import runner
 
@@ -68,8 +67,3 @@ def ratio(a, b):
 
 def fmt_ratio(x):
     return "-" if x != x else f"{x:.2f}x"
-
-
-def geometric_mean(values):
-    v = [x for x in values if x and x == x]
-    return float(np.exp(np.mean(np.log(v)))) if v else float("nan")

@@ -15,6 +15,7 @@ next starts, so a killed sweep resumes where it stopped and loses nothing
 finished; the CSV is rewritten atomically from that log.
 """
 import csv
+import io
 import json
 import os
 import platform
@@ -157,8 +158,7 @@ def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
                                  memory_bytes=limit)
     if not m.ok:
         return {"status": m.reason, "detail": m.detail[:500]}
-    cycles = [c if c is not None else None for c in m.cycles]
-    return {"status": "ok", "seconds": m.seconds, "cycles": cycles,
+    return {"status": "ok", "seconds": m.seconds, "cycles": m.cycles,
             "peak_bytes": m.extra_peak_bytes, "version": m.version, "counts": m.counts}
 
 
@@ -217,14 +217,11 @@ def run(experiment, cells, *, repeats=3, out="results", force=False, timeout=180
     rows = []
     for c in cells:
         rows += _rows_for(c, experiment, done[c.key]["outcome"])
-    lines = []
-    from io import StringIO
-    buf = StringIO()
+    buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=FIELDS)
     w.writeheader()
     w.writerows(rows)
-    lines.append(buf.getvalue())
-    _atomic_write(out_dir / "results.csv", "".join(lines))
+    _atomic_write(out_dir / "results.csv", buf.getvalue())
     return out_dir
 
 

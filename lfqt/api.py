@@ -213,11 +213,8 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
         khi = np.empty(n, dtype=np.uint64)
         klo_in = np.empty(n, dtype=np.uint64)
         workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(x, y, khi, klo_in, lo, hi))
-        khi, perm = radix.sort_keys(khi, perm, workers)
-        klo = np.empty(n, dtype=np.uint64)
-        workers.map(chunks, lambda c, lo, hi: radix.gather_u64(klo_in, perm, klo, lo, hi))
+        khi, klo, perm = radix.sort_keys128(khi, klo_in, perm, workers)
         del klo_in
-        radix.order_ties(khi, klo, perm)
     else:
         keys = np.empty(n, dtype=np.uint64)
         workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(x, y, keys, lo, hi))

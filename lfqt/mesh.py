@@ -279,20 +279,19 @@ def _reflex_hull_edges(P, faces, edge_face, edge_other):
 
 
 def _oriented_faces(simplices):
-    """Outward faces (m*4, 3) of right-handed tetrahedra, face i opposite
-    vertex i, with the owning (cell, i)."""
+    """Outward faces (m*4, 3) of right-handed tetrahedra, row 4t + i being the
+    face of cell t opposite its vertex i."""
     m = len(simplices)
     faces = np.empty((m, 4, 3), dtype=np.int64)
     for i in range(4):
         rest = [(i + 1) % 4, (i + 2) % 4, (i + 3) % 4]
-        if i % 2 == 1:
+        if i % 2 == 1:  # the cyclic rest of an odd index faces inward: swap two
             rest[0], rest[1] = rest[1], rest[0]
         faces[:, i] = simplices[:, rest]
-    # orientation flips for the face opposite an even index are handled by the swap above
     return faces.reshape(-1, 3)
 
 
-def _verify3(P, simplices, neighbors, dup, problems, checks, counts):
+def _verify3(P, simplices, neighbors, problems, checks, counts):
     n = len(P)
     bad_orient, bad_nb, not_delaunay, first = _check_cells3(P, simplices, neighbors)
     faces = _oriented_faces(simplices)
@@ -360,6 +359,39 @@ def _verify3(P, simplices, neighbors, dup, problems, checks, counts):
     return boundary
 
 
+def _start(P, tri, kind):
+    """Checks shared by 2D and 3D: indices in range and a consistent
+    ``duplicate_of``.  Returns (simplices, neighbors, dup, distinct,
+    problems, checks, counts), or a failed VerifyReport."""
+    n, width = len(P), P.shape[1] + 1
+    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64).reshape(-1, width)
+    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64).reshape(-1, width)
+    dup = getattr(tri, "duplicate_of", None)
+    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
+    problems, checks = [], {}
+    counts = {kind: int(len(simplices)), "points": int(n)}
+    _problem(problems, checks, "indices",
+             bool(simplices.size and (simplices.min() < 0 or simplices.max() >= n))
+             or len(dup) != n or bool(n and (dup.min() < 0 or dup.max() >= n)),
+             "indices out of range")
+    if not checks["indices"]:
+        return VerifyReport(False, checks, problems, counts)
+    rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(P[dup] == P))
+    _problem(problems, checks, "duplicates", not rep_ok,
+             "duplicate_of maps a row to a different point or to a non-representative")
+    distinct = np.flatnonzero(dup == np.arange(n))
+    return simplices, neighbors, dup, distinct, problems, checks, counts
+
+
+def _check_points_used(simplices, dup, distinct, problems, checks):
+    used = np.zeros(len(dup), dtype=bool)
+    used[simplices.ravel()] = True
+    missing = int(np.count_nonzero(~used[distinct]))
+    dup_used = int(np.count_nonzero(used & (dup != np.arange(len(dup)))))
+    _problem(problems, checks, "all_points_used", missing or dup_used,
+             f"{missing} distinct points are not vertices, {dup_used} duplicates are")
+
+
 def _problem(problems, checks, name, bad, sentence):
     checks[name] = not bad
     if bad:
@@ -378,25 +410,11 @@ def verify(points, tri):
         return _verify_3d(_exact_points3(points), tri)
     xs, ys = _exact_coordinates(points)
     n = xs.shape[0]
-    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64)
-    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64)
     hull = np.asarray(tri.hull, dtype=np.int64)
-    dup = getattr(tri, "duplicate_of", None)
-    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
-    problems, checks = [], {}
-    counts = {"triangles": int(len(simplices)), "points": int(n)}
-
-    _problem(problems, checks, "indices", (simplices.size and (simplices.min() < 0 or simplices.max() >= n))
-             or len(dup) != n or (n and (dup.min() < 0 or dup.max() >= n)),
-             "indices out of range")
-    if not checks["indices"]:
-        return VerifyReport(False, checks, problems, counts)
-    rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(xs[dup] == xs)) and bool(np.all(ys[dup] == ys))
-    _problem(problems, checks, "duplicates", not rep_ok,
-             "duplicate_of maps a row to a different point or to a non-representative")
-    distinct = np.flatnonzero(dup == np.arange(n))
-    used = np.zeros(n, dtype=bool)
-    used[simplices.ravel()] = True
+    start = _start(np.column_stack((xs, ys)), tri, "triangles")
+    if isinstance(start, VerifyReport):
+        return start
+    simplices, neighbors, dup, distinct, problems, checks, counts = start
 
     if len(simplices) == 0:
         degenerate = bool(getattr(tri, "degenerate", True))
@@ -428,10 +446,7 @@ def verify(points, tri):
              f"winding {winding})")
     checks["coverage"] = checks["orientation"] and checks["manifold"] and checks["convex_boundary"]
     _problem(problems, checks, "delaunay", not_delaunay, f"{not_delaunay} interior edges are not locally Delaunay")
-    missing = int(np.count_nonzero(~used[distinct]))
-    dup_used = int(np.count_nonzero(used & (dup != np.arange(n))))
-    _problem(problems, checks, "all_points_used", missing or dup_used,
-             f"{missing} distinct points are not vertices, {dup_used} duplicates are")
+    _check_points_used(simplices, dup, distinct, problems, checks)
     hull_ok = len(hull) == n_boundary and n_boundary > 0
     if hull_ok:
         nxt = np.roll(hull, -1)
@@ -441,33 +456,16 @@ def verify(points, tri):
 
 
 def _verify_3d(P, tri):
-    n = len(P)
-    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64).reshape(-1, 4)
-    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64).reshape(-1, 4)
-    dup = getattr(tri, "duplicate_of", None)
-    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
-    problems, checks = [], {}
-    counts = {"tetrahedra": int(len(simplices)), "points": int(n)}
-    _problem(problems, checks, "indices", bool(simplices.size and (simplices.min() < 0
-                                                                 or simplices.max() >= n)),
-             "indices out of range")
-    if not checks["indices"]:
-        return VerifyReport(False, checks, problems, counts)
-    rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(P[dup] == P))
-    _problem(problems, checks, "duplicates", not rep_ok,
-             "duplicate_of maps a row to a different point or to a non-representative")
-    distinct = np.flatnonzero(dup == np.arange(n))
+    start = _start(P, tri, "tetrahedra")
+    if isinstance(start, VerifyReport):
+        return start
+    simplices, neighbors, dup, distinct, problems, checks, counts = start
     if len(simplices) == 0:
         _problem(problems, checks, "flag", not getattr(tri, "degenerate", True),
                  "no tetrahedra but not flagged degenerate")
         return VerifyReport(not problems, checks, problems, counts)
-    boundary = _verify3(P, simplices, neighbors, dup, problems, checks, counts)
-    used = np.zeros(n, dtype=bool)
-    used[simplices.ravel()] = True
-    missing = int(np.count_nonzero(~used[distinct]))
-    dup_used = int(np.count_nonzero(used & (dup != np.arange(n))))
-    _problem(problems, checks, "all_points_used", missing or dup_used,
-             f"{missing} distinct points are not vertices, {dup_used} duplicates are")
+    boundary = _verify3(P, simplices, neighbors, problems, checks, counts)
+    _check_points_used(simplices, dup, distinct, problems, checks)
     hull = np.asarray(getattr(tri, "hull", boundary))
     if hull.ndim == 2 and hull.shape[1] == 3:
         same = {tuple(np.roll(f, -int(np.argmin(f)))) for f in boundary.tolist()} == \

@@ -153,29 +153,13 @@ def gather_u64(src, perm, dst, lo, hi):
         dst[i] = src[perm[i]]
 
 
-@njit(cache=True)
-def sort_keys64(keys, index_dtype_sample):
-    """Sort 64-bit keys; returns (sorted_keys, perm) with
-    sorted_keys[i] = keys[perm[i]]."""
-    n = keys.shape[0]
-    sorted_keys = keys.copy()
-    perm = np.empty(n, dtype=index_dtype_sample.dtype)
-    for i in range(n):
-        perm[i] = i
-    key_buf = np.empty(n, dtype=np.uint64)
-    perm_buf = np.empty(n, dtype=perm.dtype)
-    radix_sort_range(sorted_keys, perm, 0, n, key_buf, perm_buf)
-    return sorted_keys, perm
-
-
-@njit(cache=True)
-def sort_keys128(hi, lo, index_dtype_sample):
-    """Sort 128-bit keys given as (hi, lo) uint64 arrays: radix on ``hi``,
-    then order each run of equal ``hi`` by ``lo``.  Returns (sorted_hi,
-    sorted_lo, perm)."""
-    n = hi.shape[0]
-    shi, perm = sort_keys64(hi, index_dtype_sample)
-    slo = np.empty(n, dtype=np.uint64)
-    gather_u64(lo, perm, slo, 0, n)
+def sort_keys128(hi, lo, perm, workers):
+    """Stable sort of 128-bit keys given as (hi, lo) uint64 arrays carrying
+    ``perm``: radix on ``hi`` over ``workers``, then each run of equal ``hi``
+    ordered by ``lo``.  Returns (sorted_hi, sorted_lo, perm); ``hi`` may be
+    used as scratch."""
+    shi, perm = sort_keys(hi, perm, workers)
+    slo = np.empty(len(lo), dtype=np.uint64)
+    workers.map(workers.chunks(len(lo)), lambda c, a, b: gather_u64(lo, perm, slo, a, b))
     order_ties(shi, slo, perm)
     return shi, slo, perm

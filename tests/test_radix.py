@@ -2,24 +2,30 @@ import numpy as np
 from hypothesis import given, strategies as st
 
 from lfqt import radix
+from lfqt.parallel import Workers
 
-idx32 = np.zeros(1, dtype=np.int32)
+WORKERS = [Workers(1), Workers(3)]
 
 
-@given(st.lists(st.integers(0, 2 ** 64 - 1), max_size=200))
-def test_sort64_matches_stable_argsort(values):
+def perm32(n):
+    return np.arange(n, dtype=np.int32)
+
+
+@given(st.lists(st.integers(0, 2 ** 64 - 1), max_size=200), st.sampled_from(WORKERS))
+def test_sort64_matches_stable_argsort(values, workers):
     keys = np.array(values, dtype=np.uint64)
-    sk, perm = radix.sort_keys64(keys, idx32)
+    sk, perm = radix.sort_keys(keys.copy(), perm32(len(keys)), workers)
     expect = np.argsort(keys, kind="stable")
     assert np.array_equal(perm, expect)
     assert np.array_equal(sk, keys[expect])
 
 
-@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 2 ** 64 - 1)), max_size=300))
-def test_sort128_orders_lexicographically_and_stably(pairs):
+@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 2 ** 64 - 1)), max_size=300),
+       st.sampled_from(WORKERS))
+def test_sort128_orders_lexicographically_and_stably(pairs, workers):
     hi = np.array([p[0] for p in pairs], dtype=np.uint64)
     lo = np.array([p[1] for p in pairs], dtype=np.uint64)
-    shi, slo, perm = radix.sort_keys128(hi, lo, idx32)
+    shi, slo, perm = radix.sort_keys128(hi.copy(), lo, perm32(len(hi)), workers)
     full = [(int(h) << 64) | int(l) for h, l in zip(hi, lo)]
     expect = sorted(range(len(full)), key=lambda i: (full[i], i))
     assert list(perm) == expect
@@ -30,7 +36,7 @@ def test_long_runs_of_equal_high_words_use_radix_and_stay_stable(rng):
     n = 5000
     hi = np.zeros(n, dtype=np.uint64)
     lo = rng.integers(0, 50, n).astype(np.uint64)
-    _, slo, perm = radix.sort_keys128(hi, lo, idx32)
+    _, slo, perm = radix.sort_keys128(hi, lo, perm32(n), Workers(1))
     assert np.array_equal(perm, np.argsort(lo, kind="stable"))
 
 
@@ -42,3 +48,13 @@ def test_constant_digits_are_skipped():
                                     np.empty_like(perm))
     assert passes == 2  # only digits 1 and 2 vary
     assert np.all(np.diff(sorted_keys.astype(np.float64)) > 0)
+
+
+def test_chunked_sort_is_stable_across_chunks(rng):
+    n = 3 * (1 << 16) + 17  # several chunks on 3 workers
+    keys = (rng.integers(0, 300, n).astype(np.uint64) << np.uint64(40)) | np.uint64(7)
+    with Workers(3) as w:
+        assert len(w.chunks(n)) == 3
+        sk, perm = radix.sort_keys(keys.copy(), perm32(n), w)
+    assert np.array_equal(perm, np.argsort(keys, kind="stable"))
+    assert np.array_equal(sk, keys[perm])
