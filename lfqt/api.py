@@ -138,18 +138,24 @@ def _exact_coordinates(points):
     return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
 
 
-def _exact_points3(points):
-    """(n, 3) float64 coordinates rescaled by an exact power of two into the
-    3D exactness window."""
-    arr = _as_exact_float(points, (3,))
-    if not np.isfinite(arr).all():
-        bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+def _exact_points(points, dims):
+    """Validated (n, d) float64 coordinates rescaled by an exact power of two
+    into the exactness window of dimension d; returns (P, scale exponent)."""
+    arr = _as_exact_float(points, dims)
+    finite = np.isfinite(arr).all(axis=1)
+    if not finite.all():
+        bad = np.flatnonzero(~finite)
         raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
-    P = np.ascontiguousarray(arr, dtype=np.float64)
+    P = np.array(arr, dtype=np.float64, order="C")
     mags = np.abs(P[P != 0])
-    s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
-                         MAX_EXP_3D, MIN_ULP_EXP_3D)
-    return P * 2.0 ** s
+    window = (MAX_EXP, MIN_ULP_EXP) if P.shape[1] == 2 else (MAX_EXP_3D, MIN_ULP_EXP_3D)
+    s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)), *window)
+    P *= 2.0 ** s
+    return P, s
+
+
+def _exact_points3(points):
+    return _exact_points(points, (3,))[0]
 
 
 def _index_dtype(n):
@@ -331,22 +337,8 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
     tetrahedra and ``hull`` the outward (k, 3) hull facets.
     """
     t0 = time.perf_counter()
-    arr = _as_exact_float(points, (2, 3))
-    d = arr.shape[1]
-    finite = np.isfinite(arr).all(axis=1)
-    if not finite.all():
-        bad = np.flatnonzero(~finite)
-        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
-    P = np.ascontiguousarray(arr, dtype=np.float64)
-    mags = np.abs(P[P != 0])
-    if d == 2:
-        s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
-                             MAX_EXP, MIN_ULP_EXP)
-    else:
-        s = _window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
-                             MAX_EXP_3D, MIN_ULP_EXP_3D)
-    P *= 2.0 ** s
-    n = len(P)
+    P, s = _exact_points(points, (2, 3))
+    n, d = P.shape
     t1 = time.perf_counter()
     if isinstance(order, tuple):
         perm, hints = (np.asarray(a, dtype=np.int64) for a in order)
@@ -488,8 +480,9 @@ class Delaunay:
         self.npoints = len(self.points)
         self.nsimplex = len(self.simplices)
         self.stats = self._tri.stats
-        self._xs, self._ys = _exact_coordinates(points)
-        self._scale = 2.0 ** _scale_exponent(*_coordinates(points))
+        self._scale = 2.0 ** self.stats["scale_exponent"]
+        self._xs = self.points[:, 0] * self._scale
+        self._ys = self.points[:, 1] * self._scale
         self._lo = self.points.min(axis=0)
         self._hi = self.points.max(axis=0)
         self._simplices64 = self.simplices.astype(np.int64)
