@@ -27,6 +27,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .indexing import div3, u
 from .predicates import (C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2, C_ORIENT, C_ORIENT_S1,
                          C_ORIENT_S2, CCW_A, ICC_A, incircle_staged, level_bounds,
                          orient2d_staged)
@@ -319,29 +320,49 @@ def subdivide_alternating(ids, P, ops):
 
 
 @njit(cache=True, inline="always")
+def u(i):
+    """An index as unsigned: numba then skips its negative-index wraparound,
+    which in the merge loop costs more than a quarter of the run time (with
+    Python's floor semantics of signed // and %)."""
+    return np.uint64(i)
+
+
+@njit(cache=True, inline="always")
+def _slot(t, i):
+    """Index in T of entry i of triangle t (0-2 vertices, 3-5 twins),
+    unsigned (see lfqt.indexing)."""
+    return np.uint64(6 * t + i)
+
+
+@njit(cache=True, inline="always")
+def div3(e):
+    return np.int64(np.uint64(e) // np.uint64(3))
+
+
+@njit(cache=True, inline="always")
 def _next(e):
-    return e - 2 if e % 3 == 2 else e + 1
+    return e - 2 if np.uint64(e) % np.uint64(3) == np.uint64(2) else e + 1
 
 
 @njit(cache=True, inline="always")
 def _prev(e):
-    return e + 2 if e % 3 == 0 else e - 1
+    return e + 2 if np.uint64(e) % np.uint64(3) == np.uint64(0) else e - 1
 
 
 @njit(cache=True, inline="always")
 def _vidx(e):
-    """Index in T of the origin vertex of half-edge e.  The merge indexes T
-    through these scalar helpers: helpers taking the array itself cost numba
-    an atomic reference-count update per call in this loop."""
-    t = e // 3
-    return 6 * t + e - 3 * t
+    """Index in T of the origin vertex of half-edge e (3t + i -> 6t + i).
+    The merge indexes T through scalar helpers: helpers taking the array
+    itself cost numba an atomic reference-count update per call."""
+    u = np.uint64(e)
+    return u + np.uint64(3) * (u // np.uint64(3))
 
 
 @njit(cache=True, inline="always")
 def _hidx(e):
     """Index in T of the twin of half-edge e."""
-    t = e // 3
-    return 6 * t + 3 + e - 3 * t
+    u = np.uint64(e)
+    return u + np.uint64(3) * (u // np.uint64(3)) + np.uint64(3)
 
 
 @njit(cache=True, inline="always")
@@ -404,8 +425,8 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                 x_split = (code & 1) == 1
                 if level_filter:
                     probe = ext[lt, XMIN]
-                    ex = _binade(P[probe, 0], fmt[4], fmt[3])
-                    ey = _binade(P[probe, 1], fmt[4], fmt[3])
+                    ex = _binade(P[u(probe), 0], fmt[4], fmt[3])
+                    ey = _binade(P[u(probe), 1], fmt[4], fmt[3])
                     ccwb, iccb = level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
                 else:
                     ccwb = CCW_A
@@ -423,28 +444,28 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
             gl = -1
             gr = -1
             if not l_single:
-                gl = T[6 * ghost_out[l] + 4] // 3
+                gl = div3(T[_slot(ghost_out[u(l)], 4)])
             if not r_single:
-                gr = ghost_out[r]
+                gr = ghost_out[u(r)]
             while True:
                 if not l_single:
-                    lp = T[6 * gl + 1]
-                    o, st = orient2d_staged(P[l, 0], P[l, 1], P[r, 0], P[r, 1], P[lp, 0], P[lp, 1], ccwb)
+                    lp = T[_slot(gl, 1)]
+                    o, st = orient2d_staged(P[u(l), 0], P[u(l), 1], P[u(r), 0], P[u(r), 1], P[u(lp), 0], P[u(lp), 1], ccwb)
                     n_orient += 1
                     s_orient += st
                     s2_orient += st >> 1
                     if o < 0.0:
-                        gl = T[6 * gl + 4] // 3
+                        gl = div3(T[_slot(gl, 4)])
                         l = lp
                         continue
                 if not r_single:
-                    rp = T[6 * gr]
-                    o, st = orient2d_staged(P[l, 0], P[l, 1], P[r, 0], P[r, 1], P[rp, 0], P[rp, 1], ccwb)
+                    rp = T[_slot(gr, 0)]
+                    o, st = orient2d_staged(P[u(l), 0], P[u(l), 1], P[u(r), 0], P[u(r), 1], P[u(rp), 0], P[u(rp), 1], ccwb)
                     n_orient += 1
                     s_orient += st
                     s2_orient += st >> 1
                     if o < 0.0:
-                        gr = T[6 * gr + 5] // 3
+                        gr = div3(T[_slot(gr, 5)])
                         r = rp
                         continue
                 break
@@ -452,19 +473,19 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
             # Splice the ghost rings: A = (l, r, G) above the tangent, B below.
             A = 2 * (slot - 1)
             B = A + 1
-            T[6 * A] = l
-            T[6 * A + 1] = r
-            T[6 * A + 2] = GHOST
-            T[6 * B] = r
-            T[6 * B + 1] = l
-            T[6 * B + 2] = GHOST
+            T[_slot(A, 0)] = l
+            T[_slot(A, 1)] = r
+            T[_slot(A, 2)] = GHOST
+            T[_slot(B, 0)] = r
+            T[_slot(B, 1)] = l
+            T[_slot(B, 2)] = GHOST
             T[_hidx(3 * A)] = 3 * B
             T[_hidx(3 * B)] = 3 * A
             if l_single:
                 T[_hidx(3 * A + 2)] = 3 * B + 1
                 T[_hidx(3 * B + 1)] = 3 * A + 2
             else:
-                l_out = T[6 * gl + 5]
+                l_out = T[_slot(gl, 5)]
                 T[_hidx(3 * A + 2)] = l_out
                 T[_hidx(l_out)] = 3 * A + 2
                 T[_hidx(3 * B + 1)] = 3 * gl + 2
@@ -473,7 +494,7 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                 T[_hidx(3 * A + 1)] = 3 * B + 2
                 T[_hidx(3 * B + 2)] = 3 * A + 1
             else:
-                r_in = T[6 * gr + 4]
+                r_in = T[_slot(gr, 4)]
                 T[_hidx(3 * A + 1)] = r_in
                 T[_hidx(r_in)] = 3 * A + 1
                 T[_hidx(3 * B + 2)] = 3 * gr + 1
@@ -482,42 +503,42 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
 
             # Rising bubble.
             while True:
-                xl = P[l, 0]
-                yl = P[l, 1]
-                xr = P[r, 0]
-                yr = P[r, 1]
-                GL = T[6 * A + 5] // 3
+                xl = P[u(l), 0]
+                yl = P[u(l), 1]
+                xr = P[u(r), 0]
+                yr = P[u(r), 1]
+                GL = div3(T[_slot(A, 5)])
                 lvalid = False
                 if GL != B:
-                    lc = T[6 * GL]
-                    o, st = orient2d_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], ccwb)
+                    lc = T[_slot(GL, 0)]
+                    o, st = orient2d_staged(xl, yl, xr, yr, P[u(lc), 0], P[u(lc), 1], ccwb)
                     n_orient += 1
                     s_orient += st
                     s2_orient += st >> 1
                     lvalid = o > 0.0
                     while lvalid:
-                        e = T[6 * GL + 3]
+                        e = T[_slot(GL, 3)]
                         x = T[_vidx(_prev(e))]
                         if x == GHOST:
                             break
-                        ic, st = incircle_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], P[x, 0], P[x, 1], iccb)
+                        ic, st = incircle_staged(xl, yl, xr, yr, P[u(lc), 0], P[u(lc), 1], P[u(x), 0], P[u(x), 1], iccb)
                         n_incircle += 1
                         s_incircle += st
                         s2_incircle += st >> 1
                         if ic <= 0.0:
                             break
                         # (l, lc, x) is not Delaunay: flip l-lc with its ghost.
-                        tt = e // 3
+                        tt = div3(e)
                         t_lc_x = T[_hidx(_next(e))]
                         t_x_l = T[_hidx(_prev(e))]
-                        g1 = T[6 * GL + 4]
-                        g2 = T[6 * GL + 5]
-                        T[6 * tt] = x
-                        T[6 * tt + 1] = l
-                        T[6 * tt + 2] = GHOST
-                        T[6 * GL] = lc
-                        T[6 * GL + 1] = x
-                        T[6 * GL + 2] = GHOST
+                        g1 = T[_slot(GL, 4)]
+                        g2 = T[_slot(GL, 5)]
+                        T[_slot(tt, 0)] = x
+                        T[_slot(tt, 1)] = l
+                        T[_slot(tt, 2)] = GHOST
+                        T[_slot(GL, 0)] = lc
+                        T[_slot(GL, 1)] = x
+                        T[_slot(GL, 2)] = GHOST
                         T[_hidx(3 * tt)] = t_x_l
                         T[_hidx(t_x_l)] = 3 * tt
                         T[_hidx(3 * tt + 1)] = g1
@@ -530,42 +551,42 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                         T[_hidx(g2)] = 3 * GL + 2
                         GL = tt
                         lc = x
-                        o, st = orient2d_staged(xl, yl, xr, yr, P[lc, 0], P[lc, 1], ccwb)
+                        o, st = orient2d_staged(xl, yl, xr, yr, P[u(lc), 0], P[u(lc), 1], ccwb)
                         n_orient += 1
                         s_orient += st
                         s2_orient += st >> 1
                         lvalid = o > 0.0
-                GR = T[6 * A + 4] // 3
+                GR = div3(T[_slot(A, 4)])
                 rvalid = False
                 if GR != B:
-                    rc = T[6 * GR + 1]
-                    o, st = orient2d_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], ccwb)
+                    rc = T[_slot(GR, 1)]
+                    o, st = orient2d_staged(xl, yl, xr, yr, P[u(rc), 0], P[u(rc), 1], ccwb)
                     n_orient += 1
                     s_orient += st
                     s2_orient += st >> 1
                     rvalid = o > 0.0
                     while rvalid:
-                        e = T[6 * GR + 3]
+                        e = T[_slot(GR, 3)]
                         x = T[_vidx(_prev(e))]
                         if x == GHOST:
                             break
-                        ic, st = incircle_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], P[x, 0], P[x, 1], iccb)
+                        ic, st = incircle_staged(xl, yl, xr, yr, P[u(rc), 0], P[u(rc), 1], P[u(x), 0], P[u(x), 1], iccb)
                         n_incircle += 1
                         s_incircle += st
                         s2_incircle += st >> 1
                         if ic <= 0.0:
                             break
-                        tt = e // 3
+                        tt = div3(e)
                         t_r_x = T[_hidx(_next(e))]
                         t_x_rc = T[_hidx(_prev(e))]
-                        g1 = T[6 * GR + 4]
-                        g2 = T[6 * GR + 5]
-                        T[6 * GR] = r
-                        T[6 * GR + 1] = x
-                        T[6 * GR + 2] = GHOST
-                        T[6 * tt] = x
-                        T[6 * tt + 1] = rc
-                        T[6 * tt + 2] = GHOST
+                        g1 = T[_slot(GR, 4)]
+                        g2 = T[_slot(GR, 5)]
+                        T[_slot(GR, 0)] = r
+                        T[_slot(GR, 1)] = x
+                        T[_slot(GR, 2)] = GHOST
+                        T[_slot(tt, 0)] = x
+                        T[_slot(tt, 1)] = rc
+                        T[_slot(tt, 2)] = GHOST
                         T[_hidx(3 * GR)] = t_r_x
                         T[_hidx(t_r_x)] = 3 * GR
                         T[_hidx(3 * GR + 1)] = 3 * tt + 2
@@ -577,7 +598,7 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                         T[_hidx(3 * tt + 1)] = g1
                         T[_hidx(g1)] = 3 * tt + 1
                         rc = x
-                        o, st = orient2d_staged(xl, yl, xr, yr, P[rc, 0], P[rc, 1], ccwb)
+                        o, st = orient2d_staged(xl, yl, xr, yr, P[u(rc), 0], P[u(rc), 1], ccwb)
                         n_orient += 1
                         s_orient += st
                         s2_orient += st >> 1
@@ -586,23 +607,23 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     break
                 choose_right = not lvalid
                 if lvalid and rvalid:
-                    ic, st = incircle_staged(P[lc, 0], P[lc, 1], xl, yl, xr, yr, P[rc, 0], P[rc, 1], iccb)
+                    ic, st = incircle_staged(P[u(lc), 0], P[u(lc), 1], xl, yl, xr, yr, P[u(rc), 0], P[u(rc), 1], iccb)
                     n_incircle += 1
                     s_incircle += st
                     s2_incircle += st >> 1
                     choose_right = ic > 0.0
                 if choose_right:
                     # cross edge l-rc: A and GR become (l, r, rc) and the new A
-                    a0 = T[6 * A + 3]
-                    a2 = T[6 * A + 5]
-                    g0 = T[6 * GR + 3]
-                    g1 = T[6 * GR + 4]
-                    T[6 * A] = l
-                    T[6 * A + 1] = r
-                    T[6 * A + 2] = rc
-                    T[6 * GR] = l
-                    T[6 * GR + 1] = rc
-                    T[6 * GR + 2] = GHOST
+                    a0 = T[_slot(A, 3)]
+                    a2 = T[_slot(A, 5)]
+                    g0 = T[_slot(GR, 3)]
+                    g1 = T[_slot(GR, 4)]
+                    T[_slot(A, 0)] = l
+                    T[_slot(A, 1)] = r
+                    T[_slot(A, 2)] = rc
+                    T[_slot(GR, 0)] = l
+                    T[_slot(GR, 1)] = rc
+                    T[_slot(GR, 2)] = GHOST
                     T[_hidx(3 * A)] = a0
                     T[_hidx(a0)] = 3 * A
                     T[_hidx(3 * A + 1)] = g0
@@ -617,16 +638,16 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     r = rc
                 else:
                     # cross edge lc-r: A and GL become (l, r, lc) and the new A
-                    a0 = T[6 * A + 3]
-                    a1 = T[6 * A + 4]
-                    g0 = T[6 * GL + 3]
-                    g2 = T[6 * GL + 5]
-                    T[6 * A] = l
-                    T[6 * A + 1] = r
-                    T[6 * A + 2] = lc
-                    T[6 * GL] = lc
-                    T[6 * GL + 1] = r
-                    T[6 * GL + 2] = GHOST
+                    a0 = T[_slot(A, 3)]
+                    a1 = T[_slot(A, 4)]
+                    g0 = T[_slot(GL, 3)]
+                    g2 = T[_slot(GL, 5)]
+                    T[_slot(A, 0)] = l
+                    T[_slot(A, 1)] = r
+                    T[_slot(A, 2)] = lc
+                    T[_slot(GL, 0)] = lc
+                    T[_slot(GL, 1)] = r
+                    T[_slot(GL, 2)] = GHOST
                     T[_hidx(3 * A)] = a0
                     T[_hidx(a0)] = 3 * A
                     T[_hidx(3 * A + 1)] = 3 * GL
@@ -639,8 +660,8 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                     T[_hidx(g2)] = 3 * GL + 2
                     A = GL
                     l = lc
-            ghost_out[l_bottom] = B
-            ghost_out[r] = A
+            ghost_out[u(l_bottom)] = B
+            ghost_out[u(r)] = A
 
             # Extremes of the union: one side's by construction, else the larger.
             if x_split:
@@ -651,11 +672,11 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                 keep_max, keep_min, order = XMAX, XMIN, 0
             a = ext[lt, keep_max]
             b = ext[rt, keep_max]
-            if _less(P[a, 0], P[a, 1], P[b, 0], P[b, 1], order):
+            if _less(P[u(a), 0], P[u(a), 1], P[u(b), 0], P[u(b), 1], order):
                 ext[lt, keep_max] = b
             a = ext[lt, keep_min]
             b = ext[rt, keep_min]
-            if _less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], order):
+            if _less(P[u(b), 0], P[u(b), 1], P[u(a), 0], P[u(a), 1], order):
                 ext[lt, keep_min] = b
             single[lt] = False
             top -= 1
@@ -681,7 +702,7 @@ def count_real(T, lo, hi):
     """Real (non-ghost, used) triangles among slots [lo, hi)."""
     m = 0
     for t in range(lo, hi):
-        if T[6 * t] >= 0 and T[6 * t + 1] >= 0 and T[6 * t + 2] >= 0:
+        if T[_slot(t, 0)] >= 0 and T[_slot(t, 1)] >= 0 and T[_slot(t, 2)] >= 0:
             m += 1
     return m
 
@@ -692,11 +713,11 @@ def number_real(T, newid, lo, hi, start):
     -1 for the others."""
     m = start
     for t in range(lo, hi):
-        if T[6 * t] >= 0 and T[6 * t + 1] >= 0 and T[6 * t + 2] >= 0:
-            newid[t] = m
+        if T[_slot(t, 0)] >= 0 and T[_slot(t, 1)] >= 0 and T[_slot(t, 2)] >= 0:
+            newid[u(t)] = m
             m += 1
         else:
-            newid[t] = -1
+            newid[u(t)] = -1
 
 
 @njit(cache=True, nogil=True)
@@ -704,13 +725,13 @@ def write_real(T, newid, perm, simplices, neighbors, lo, hi):
     """Rows of the real triangles of slots [lo, hi) in input indices;
     neighbour i is opposite vertex i, -1 on the hull."""
     for t in range(lo, hi):
-        k = newid[t]
+        k = newid[u(t)]
         if k < 0:
             continue
         for i in range(3):
-            simplices[k, i] = perm[T[6 * t + i]]
+            simplices[u(k), i] = perm[u(T[_slot(t, i)])]
             # edge opposite vertex i starts at vertex i+1
-            neighbors[k, i] = newid[T[6 * t + 3 + (i + 1) % 3] // 3]
+            neighbors[u(k), i] = newid[div3(T[_slot(t, 3 + (i + 1) % 3)])]
 
 
 @njit(cache=True)
@@ -738,19 +759,19 @@ def gather_points(x, y, perm, scale, P, lo, hi):
     Morton order as float64 (an exact power-of-two scale); x and y of a point
     share a cache line."""
     for i in range(lo, hi):
-        j = perm[i]
-        P[i, 0] = np.float64(x[j]) * scale
-        P[i, 1] = np.float64(y[j]) * scale
+        j = u(perm[u(i)])
+        P[u(i), 0] = np.float64(x[j]) * scale
+        P[u(i), 1] = np.float64(y[j]) * scale
 
 
 @njit(cache=True, nogil=True)
 def duplicates_into(rep, perm, out, lo, hi):
     """duplicate_of in input indices from representatives in sorted order."""
     for i in range(lo, hi):
-        out[perm[i]] = perm[rep[i]]
+        out[u(perm[u(i)])] = perm[u(rep[u(i)])]
 
 
 @njit(cache=True, nogil=True)
 def fill(arr, value, lo, hi):
     for i in range(lo, hi):
-        arr[i] = value
+        arr[u(i)] = value

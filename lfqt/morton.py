@@ -13,6 +13,8 @@ and y, ``lo`` the lower 32 bits.
 import numpy as np
 from numba import njit
 
+from .indexing import u
+
 _U64 = np.uint64
 _SIGN64 = _U64(1 << 63)
 _SIGN32 = np.uint32(1 << 31)
@@ -67,7 +69,7 @@ def morton_keys32_into(x, y, keys, lo, hi):
     xb = x.view(np.uint32)
     yb = y.view(np.uint32)
     for i in range(lo, hi):
-        keys[i] = interleave(_U64(ordered_bits32(xb[i])), _U64(ordered_bits32(yb[i])))
+        keys[u(i)] = interleave(_U64(ordered_bits32(xb[u(i)])), _U64(ordered_bits32(yb[u(i)])))
 
 
 @njit(cache=True, nogil=True)
@@ -76,10 +78,10 @@ def morton_keys64_into(x, y, khi, klo, lo, hi):
     xb = x.view(np.uint64)
     yb = y.view(np.uint64)
     for i in range(lo, hi):
-        ox = ordered_bits64(xb[i])
-        oy = ordered_bits64(yb[i])
-        khi[i] = interleave(ox >> _S32, oy >> _S32)
-        klo[i] = interleave(ox & _LOW32, oy & _LOW32)
+        ox = ordered_bits64(xb[u(i)])
+        oy = ordered_bits64(yb[u(i)])
+        khi[u(i)] = interleave(ox >> _S32, oy >> _S32)
+        klo[u(i)] = interleave(ox & _LOW32, oy & _LOW32)
 
 
 def morton_keys32(x, y):

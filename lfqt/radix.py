@@ -8,6 +8,8 @@ stable, which makes the first of a run of equal keys its smallest input index.
 import numpy as np
 from numba import njit
 
+from .indexing import u
+
 _FF = np.uint64(0xFF)
 _INSERTION_RUN = 24
 
@@ -16,7 +18,7 @@ _INSERTION_RUN = 24
 def histograms(keys, lo, hi, counts):
     """Add the counts of all 8 digits of keys[lo:hi] to counts (8, 256)."""
     for i in range(lo, hi):
-        k = keys[i]
+        k = keys[u(i)]
         for d in range(8):
             counts[d, (k >> np.uint64(8 * d)) & _FF] += 1
 
@@ -27,7 +29,7 @@ def digit_counts(keys, lo, hi, shift, counts):
     counts[:] = 0
     sh = np.uint64(shift)
     for i in range(lo, hi):
-        counts[(keys[i] >> sh) & _FF] += 1
+        counts[(keys[u(i)] >> sh) & _FF] += 1
 
 
 @njit(cache=True, nogil=True)
@@ -36,12 +38,12 @@ def scatter(src_k, src_p, dst_k, dst_p, lo, hi, shift, offsets):
     holds each bucket's next destination and is advanced."""
     sh = np.uint64(shift)
     for i in range(lo, hi):
-        k = src_k[i]
+        k = src_k[u(i)]
         b = (k >> sh) & _FF
         j = offsets[b]
         offsets[b] = j + 1
-        dst_k[j] = k
-        dst_p[j] = src_p[i]
+        dst_k[u(j)] = k
+        dst_p[u(j)] = src_p[u(i)]
 
 
 def varying_digits(counts, first_key, n):
@@ -117,21 +119,33 @@ def _digit_chunk(keys, lo, hi, shift):
 
 
 @njit(cache=True, nogil=True)
+def _longest_run(shi):
+    n = shi.shape[0]
+    longest = 0
+    start = 0
+    for i in range(1, n + 1):
+        if i == n or shi[i] != shi[i - 1]:
+            longest = max(longest, i - start)
+            start = i
+    return longest
+
+
+@njit(cache=True, nogil=True)
 def order_ties(shi, slo, perm):
     """Within each run of equal ``shi``, sort ``slo`` (carrying perm) stably:
     insertion sort for short runs, radix sort for long ones."""
     n = shi.shape[0]
-    key_buf = np.empty(0, dtype=np.uint64)
-    perm_buf = np.empty(0, dtype=perm.dtype)
+    # Scratch is sized before the loop: an array variable reassigned inside
+    # it costs numba reference counting on every iteration.
+    size = n if _longest_run(shi) > _INSERTION_RUN else 0
+    key_buf = np.empty(size, dtype=np.uint64)
+    perm_buf = np.empty(size, dtype=perm.dtype)
     start = 0
     while start < n:
         end = start + 1
         while end < n and shi[end] == shi[start]:
             end += 1
         if end - start > _INSERTION_RUN:
-            if key_buf.shape[0] < n:
-                key_buf = np.empty(n, dtype=np.uint64)
-                perm_buf = np.empty(n, dtype=perm.dtype)
             radix_sort_range(slo, perm, start, end, key_buf, perm_buf)
         elif end - start > 1:
             for i in range(start + 1, end):
@@ -150,7 +164,7 @@ def order_ties(shi, slo, perm):
 @njit(cache=True, nogil=True)
 def gather_u64(src, perm, dst, lo, hi):
     for i in range(lo, hi):
-        dst[i] = src[perm[i]]
+        dst[u(i)] = src[u(perm[u(i)])]
 
 
 def sort_keys128(hi, lo, perm, workers):
