@@ -408,7 +408,10 @@ def _storage_order(P):
     """A permutation of the rows of P along a Hilbert curve (2D or 3D)."""
     if len(P) == 0:
         return np.arange(0)
-    return np.argsort(orders.hilbert_keys(P, np.arange(len(P))), kind="stable")
+    # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine enough
+    # for locality, and cheaper to index than the order's 31/21 bits.
+    bits = 16 if P.shape[1] == 2 else 10
+    return orders.sorted_by_key(orders.hilbert_keys(P, np.arange(len(P)), bits))
 
 
 def _chain_hull(edges):

@@ -26,6 +26,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from .indexing import u
 from .predicates import CCW_A, ICC_A, ISP_A, O3D_A, incircle_staged, insphere_staged, \
     orient2d_staged, orient3d_staged
 
@@ -149,14 +150,15 @@ def _initial_simplex(P, d, perm):
     return pick
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free, state,
                   counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals, hstamps):
     """Insert perm[t0:] until done (returns (n, 0)) or until the cell arrays
     (reason 1) or the cavity scratch (2) are too small for the next point,
     before touching it; returns (t, reason) to resume after growing.  No
     array is reassigned in here: that would cost numba reference counting
-    on every iteration."""
+    on every iteration.  Indices go through ``u`` (lfqt.indexing).  Inlined
+    into one kernel per dimension, so that ``d`` is a constant there."""
     n = perm.shape[0]
     width = d + 1
     ncells, nfree, stamp, last = state[0], state[1], state[2], state[3]
@@ -168,19 +170,19 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
                 is_pick = True
         if is_pick:
             continue
-        p = perm[t]
-        h = hint[t]
+        p = perm[u(t)]
+        h = hint[u(t)]
         orient_before = counts[K_ORIENT]
         insphere_before = counts[K_INSPHERE]
         exact_before = counts[K_EXACT]
         aborted = False
-        start = vcell[h] if h >= 0 and vcell[h] >= 0 else vcell[last]
+        start = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(last)]
         c_start = cycle_counter()
         # ---- locate: remembering visibility walk
         c = start
         for i in range(width):
-            if C[c, i] == INF:
-                c = N[c, i]
+            if C[u(c), u(i)] == INF:
+                c = N[u(c), u(i)]
                 break
         prev = -1
         outside = False
@@ -191,17 +193,17 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
             rot = np.int64(rnd % np.uint64(width))
             moved = False
             for q in range(width):
-                i = (q + rot) % width
-                nb = N[c, i]
+                i = q + rot if q + rot < width else q + rot - width
+                nb = N[u(c), u(i)]
                 if nb == prev:
                     continue
-                v0 = p if i == 0 else C[c, 0]
-                v1 = p if i == 1 else C[c, 1]
-                v2 = p if i == 2 else C[c, 2]
-                v3 = (p if i == 3 else C[c, 3]) if d == 3 else v0
-                o, st = _orient_pts(d, P[v0, 0], P[v0, 1], P[v0, d - 1], P[v1, 0], P[v1, 1],
-                                    P[v1, d - 1], P[v2, 0], P[v2, 1], P[v2, d - 1],
-                                    P[v3, 0], P[v3, 1], P[v3, d - 1])
+                v0 = p if i == 0 else C[u(c), 0]
+                v1 = p if i == 1 else C[u(c), 1]
+                v2 = p if i == 2 else C[u(c), 2]
+                v3 = (p if i == 3 else C[u(c), 3]) if d == 3 else v0
+                o, st = _orient_pts(d, P[u(v0), 0], P[u(v0), 1], P[u(v0), d - 1], P[u(v1), 0], P[u(v1), 1],
+                                    P[u(v1), d - 1], P[u(v2), 0], P[u(v2), 1], P[u(v2), d - 1],
+                                    P[u(v3), 0], P[u(v3), 1], P[u(v3), d - 1])
                 counts[K_ORIENT] += 1
                 if o < 0.0:
                     prev = c
@@ -212,7 +214,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
                 break
             is_inf = False
             for i in range(width):
-                if C[c, i] == INF:
+                if C[u(c), u(i)] == INF:
                     is_inf = True
             if is_inf:
                 outside = True
@@ -221,83 +223,83 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
         if not outside:
             dup = -1
             for i in range(width):
-                v = C[c, i]
-                if P[v, 0] == P[p, 0] and P[v, 1] == P[p, 1] and P[v, d - 1] == P[p, d - 1]:
+                v = C[u(c), u(i)]
+                if P[u(v), 0] == P[u(p), 0] and P[u(v), 1] == P[u(p), 1] and P[u(v), d - 1] == P[u(p), d - 1]:
                     dup = v
             if dup >= 0:
-                dup_of[p] = dup
+                dup_of[u(p)] = dup
                 counts[K_DUPLICATES] += 1
                 continue
         # ---- cavity: cells whose circumsphere strictly contains p
         stamp += 2
         nstack = 1
         stack[0] = c
-        mark[c] = stamp
+        mark[u(c)] = stamp
         nconf = 0
         nb_count = 0
         while nstack > 0 and not aborted:
             nstack -= 1
-            x = stack[nstack]
+            x = stack[u(nstack)]
             if nconf == conflicts.shape[0]:
                 aborted = True
                 break
-            conflicts[nconf] = x
+            conflicts[u(nconf)] = x
             nconf += 1
             for i in range(width):
-                y = N[x, i]
-                if mark[y] == stamp:
+                y = N[u(x), u(i)]
+                if mark[u(y)] == stamp:
                     continue
                 conflict = False
-                if mark[y] != stamp + 1:
+                if mark[u(y)] != stamp + 1:
                     f = -1
                     for k in range(width):
-                        if C[y, k] == INF:
+                        if C[u(y), u(k)] == INF:
                             f = k
                     if f >= 0:
                         # infinite cell: p beyond its hull facet, or on the
                         # facet's plane and inside its circumcircle
-                        v0 = p if f == 0 else C[y, 0]
-                        v1 = p if f == 1 else C[y, 1]
-                        v2 = p if f == 2 else C[y, 2]
-                        v3 = (p if f == 3 else C[y, 3]) if d == 3 else v0
-                        o, st = _orient_pts(d, P[v0, 0], P[v0, 1], P[v0, d - 1], P[v1, 0],
-                                            P[v1, 1], P[v1, d - 1], P[v2, 0], P[v2, 1],
-                                            P[v2, d - 1], P[v3, 0], P[v3, 1], P[v3, d - 1])
+                        v0 = p if f == 0 else C[u(y), 0]
+                        v1 = p if f == 1 else C[u(y), 1]
+                        v2 = p if f == 2 else C[u(y), 2]
+                        v3 = (p if f == 3 else C[u(y), 3]) if d == 3 else v0
+                        o, st = _orient_pts(d, P[u(v0), 0], P[u(v0), 1], P[u(v0), d - 1], P[u(v1), 0],
+                                            P[u(v1), 1], P[u(v1), d - 1], P[u(v2), 0], P[u(v2), 1],
+                                            P[u(v2), d - 1], P[u(v3), 0], P[u(v3), 1], P[u(v3), d - 1])
                         if o > 0.0:
                             conflict = True
                         elif o == 0.0:
-                            fa = C[y, (f + 1) % width]
-                            fb = C[y, (f + 2) % width]
-                            fe = C[y, (f + 3) % width] if d == 3 else fa
+                            fa = C[u(y), u((f + 1) % width)]
+                            fb = C[u(y), u((f + 2) % width)]
+                            fe = C[u(y), u((f + 3) % width)] if d == 3 else fa
                             conflict = _inside_facet_circle(
-                                d, P[fa, 0], P[fa, 1], P[fa, d - 1], P[fb, 0], P[fb, 1],
-                                P[fb, d - 1], P[fe, 0], P[fe, 1], P[fe, d - 1], P[p, 0],
-                                P[p, 1], P[p, d - 1], span)
+                                d, P[u(fa), 0], P[u(fa), 1], P[u(fa), d - 1], P[u(fb), 0], P[u(fb), 1],
+                                P[u(fb), d - 1], P[u(fe), 0], P[u(fe), 1], P[u(fe), d - 1], P[u(p), 0],
+                                P[u(p), 1], P[u(p), d - 1], span)
                     else:
                         counts[K_INSPHERE] += 1
-                        a, b, e = C[y, 0], C[y, 1], C[y, 2]
-                        g = C[y, 3] if d == 3 else a
-                        sv, st = _insphere_pts(d, P[a, 0], P[a, 1], P[a, d - 1], P[b, 0],
-                                               P[b, 1], P[b, d - 1], P[e, 0], P[e, 1],
-                                               P[e, d - 1], P[g, 0], P[g, 1], P[g, d - 1],
-                                               P[p, 0], P[p, 1], P[p, d - 1])
+                        a, b, e = C[u(y), 0], C[u(y), 1], C[u(y), 2]
+                        g = C[u(y), 3] if d == 3 else a
+                        sv, st = _insphere_pts(d, P[u(a), 0], P[u(a), 1], P[u(a), d - 1], P[u(b), 0],
+                                               P[u(b), 1], P[u(b), d - 1], P[u(e), 0], P[u(e), 1],
+                                               P[u(e), d - 1], P[u(g), 0], P[u(g), 1], P[u(g), d - 1],
+                                               P[u(p), 0], P[u(p), 1], P[u(p), d - 1])
                         if st == 2:
                             counts[K_EXACT] += 1
                         conflict = sv > 0.0
                 if conflict:
-                    mark[y] = stamp
+                    mark[u(y)] = stamp
                     if nstack == stack.shape[0]:
                         aborted = True
                         break
-                    stack[nstack] = y
+                    stack[u(nstack)] = y
                     nstack += 1
                 else:
-                    mark[y] = stamp + 1
+                    mark[u(y)] = stamp + 1
                     if nb_count == bcell.shape[0]:
                         aborted = True
                         break
-                    bcell[nb_count] = x
-                    bface[nb_count] = i
+                    bcell[u(nb_count)] = x
+                    bface[u(nb_count)] = i
                     nb_count += 1
         if aborted or 4 * d * nb_count > hkeys.shape[0] or \
                 ncells + max(nb_count - nfree, 0) > C.shape[0]:
@@ -312,68 +314,85 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
         # ---- one new cell per boundary facet
         mask = hkeys.shape[0] - 1
         for b in range(nb_count):
-            x = bcell[b]
-            i = bface[b]
-            y = N[x, i]
+            x = bcell[u(b)]
+            i = bface[u(b)]
+            y = N[u(x), u(i)]
             if nfree > 0:
                 nfree -= 1
-                w = free[nfree]
+                w = free[u(nfree)]
             else:
                 w = ncells
                 ncells += 1
-            alive[w] = True
-            mark[w] = 0
+            alive[u(w)] = True
+            mark[u(w)] = 0
             for k in range(width):
-                C[w, k] = C[x, k]
-            C[w, i] = p
-            N[w, i] = y
+                C[u(w), u(k)] = C[u(x), u(k)]
+            C[u(w), u(i)] = p
+            N[u(w), u(i)] = y
             for k in range(width):
-                if N[y, k] == x:
-                    N[y, k] = w
+                if N[u(y), u(k)] == x:
+                    N[u(y), u(k)] = w
             for k in range(width):
-                v = C[w, k]
+                v = C[u(w), u(k)]
                 if v >= 0:
-                    vcell[v] = w
+                    vcell[u(v)] = w
             # faces through p: match them by their ridge (the facet minus one vertex)
             for k in range(width):
                 if k == i:
                     continue
                 if d == 2:
-                    key = C[w, 3 - i - k] + 1
+                    key = C[u(w), u(3 - i - k)] + 1
                 else:
-                    u = -2
+                    ra = -2
+                    rb = -2
                     for m in range(width):
                         if m != i and m != k:
-                            if u == -2:
-                                u = C[w, m]
+                            if ra == -2:
+                                ra = C[u(w), u(m)]
                             else:
-                                v = C[w, m]
-                    lo = min(u, v) + 1
-                    hi = max(u, v) + 1
+                                rb = C[u(w), u(m)]
+                    lo = min(ra, rb) + 1
+                    hi = max(ra, rb) + 1
                     key = lo * (n + 1) + hi
                 slot = (key * 0x9E3779B97F4A7C15) & mask
-                while hstamps[slot] == stamp and hkeys[slot] != key:
+                while hstamps[u(slot)] == stamp and hkeys[u(slot)] != key:
                     slot = (slot + 1) & mask
-                if hstamps[slot] == stamp:
-                    other = hvals[slot]
-                    w2 = other // width
-                    k2 = other % width
-                    N[w, k] = w2
-                    N[w2, k2] = w
+                if hstamps[u(slot)] == stamp:
+                    other = hvals[u(slot)]
+                    w2 = np.int64(np.uint64(other) // np.uint64(width))
+                    k2 = other - w2 * width
+                    N[u(w), u(k)] = w2
+                    N[u(w2), u(k2)] = w
                 else:
-                    hstamps[slot] = stamp
-                    hkeys[slot] = key
-                    hvals[slot] = w * width + k
+                    hstamps[u(slot)] = stamp
+                    hkeys[u(slot)] = key
+                    hvals[u(slot)] = w * width + k
         for q in range(nconf):
-            x = conflicts[q]
-            alive[x] = False
-            free[nfree] = x
+            x = conflicts[u(q)]
+            alive[u(x)] = False
+            free[u(nfree)] = x
             nfree += 1
         last = p
         counts[K_LOCATE_CYCLES] += c_located - c_start
         counts[K_CAVITY_CYCLES] += cycle_counter() - c_located
     state[0], state[1], state[2], state[3] = ncells, nfree, stamp, last
     return n, 0
+
+@njit(cache=True)
+def _insert_range_2d(P, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free, state,
+                     counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals, hstamps):
+    return _insert_range(P, 2, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free,
+                         state, counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals,
+                         hstamps)
+
+
+@njit(cache=True)
+def _insert_range_3d(P, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free, state,
+                     counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals, hstamps):
+    return _insert_range(P, 3, perm, hint, span, pick, t0, C, N, alive, mark, vcell, free,
+                         state, counts, dup_of, stack, conflicts, bcell, bface, hkeys, hvals,
+                         hstamps)
+
 
 @njit(cache=True)
 def insert_all(P, d, perm, hint, span, capacity=0):
@@ -448,9 +467,14 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     state = np.array([ncells, 0, 0, s[0]], dtype=np.int64)
     t = 0
     while True:
-        t, reason = _insert_range(P, d, perm, hint, span, pick, t, C, N, alive, mark, vcell,
-                                  free, state, counts, dup_of, stack, conflicts, bcell, bface,
-                                  hkeys, hvals, hstamps)
+        if d == 2:
+            t, reason = _insert_range_2d(P, perm, hint, span, pick, t, C, N, alive, mark, vcell,
+                                         free, state, counts, dup_of, stack, conflicts, bcell,
+                                         bface, hkeys, hvals, hstamps)
+        else:
+            t, reason = _insert_range_3d(P, perm, hint, span, pick, t, C, N, alive, mark, vcell,
+                                         free, state, counts, dup_of, stack, conflicts, bcell,
+                                         bface, hkeys, hvals, hstamps)
         if reason == 0:
             break
         if reason == 1:

@@ -25,19 +25,36 @@ For every order but the Kd ones the hint is the point inserted just before.
 import numpy as np
 from numba import njit
 
+from .indexing import u
+from .parallel import Workers
+from .radix import sort_keys
+
 ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
 BRIO_RATIO = {2: 0.25, 3: 0.125}
 BRIO_MIN_ROUND = 64
 
 
+@njit(cache=True, inline="always")
+def _swap_rows(X, ids, i, j):
+    t = ids[u(i)]
+    ids[u(i)] = ids[u(j)]
+    ids[u(j)] = t
+    for a in range(X.shape[1]):
+        v = X[u(i), a]
+        X[u(i), a] = X[u(j), a]
+        X[u(j), a] = v
+
+
 @njit(cache=True)
-def _select_axis(ids, lo, hi, k, P, axis):
-    """Partition ids[lo:hi] by P[:, axis] so that ids[k] holds the element of
-    rank k - lo (nth_element); ties broken by index for determinism."""
+def _select_axis(X, ids, lo, hi, k, axis):
+    """Partition rows [lo, hi) of X (coordinates, kept in step with ids) by
+    X[:, axis] so that row k holds the element of rank k - lo
+    (nth_element); ties broken by id for determinism.  Moving the
+    coordinates with the ids keeps every pass sequential in memory."""
     while hi - lo > 1:
         mid = (lo + hi) >> 1
-        a, b, c = ids[lo], ids[mid], ids[hi - 1]
-        va, vb, vc = P[a, axis], P[b, axis], P[c, axis]
+        va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
+        a, b, c = ids[u(lo)], ids[u(mid)], ids[u(hi - 1)]
         # median of three values
         if (va <= vb) == (vb <= vc):
             pv, pi = vb, b
@@ -48,14 +65,12 @@ def _select_axis(ids, lo, hi, k, P, axis):
         i = lo
         j = hi - 1
         while i <= j:
-            while P[ids[i], axis] < pv or (P[ids[i], axis] == pv and ids[i] < pi):
+            while X[u(i), axis] < pv or (X[u(i), axis] == pv and ids[u(i)] < pi):
                 i += 1
-            while P[ids[j], axis] > pv or (P[ids[j], axis] == pv and ids[j] > pi):
+            while X[u(j), axis] > pv or (X[u(j), axis] == pv and ids[u(j)] > pi):
                 j -= 1
             if i <= j:
-                t = ids[i]
-                ids[i] = ids[j]
-                ids[j] = t
+                _swap_rows(X, ids, i, j)
                 i += 1
                 j -= 1
         if k <= j:
@@ -70,6 +85,7 @@ def _select_axis(ids, lo, hi, k, P, axis):
 def kdtree_order(P, alternate, sibling):
     n, d = P.shape
     ids = np.arange(n)
+    X = P.copy()
     perm = np.empty(n, dtype=np.int64)
     hint = np.empty(n, dtype=np.int64)
     # breadth-first queue of (lo, hi, parent point, left sibling point, depth)
@@ -78,6 +94,8 @@ def kdtree_order(P, alternate, sibling):
     q_parent = np.empty(n, dtype=np.int64)
     q_sib = np.empty(n, dtype=np.int64)
     q_depth = np.empty(n, dtype=np.int64)
+    mn = np.empty(d)
+    mx = np.empty(d)
     head = 0
     tail = 0
     if n:
@@ -89,23 +107,27 @@ def kdtree_order(P, alternate, sibling):
         # a node's label is its queue slot, so the left sibling (the slot
         # before) is already labelled when its right sibling comes up
         sib = perm[q_sib[head]] if q_sib[head] >= 0 else -1
+        axis = 0
         if alternate:
             axis = depth % d
-        else:
-            axis = 0
+        elif hi - lo > 1:
+            for a in range(d):
+                mn[a] = X[u(lo), a]
+                mx[a] = X[u(lo), a]
+            for t in range(lo + 1, hi):
+                for a in range(d):
+                    v = X[u(t), a]
+                    if v < mn[a]:
+                        mn[a] = v
+                    elif v > mx[a]:
+                        mx[a] = v
             best = -1.0
             for a in range(d):
-                mn = np.inf
-                mx = -np.inf
-                for t in range(lo, hi):
-                    v = P[ids[t], a]
-                    mn = min(mn, v)
-                    mx = max(mx, v)
-                if mx - mn > best:
-                    best = mx - mn
+                if mx[a] - mn[a] > best:
+                    best = mx[a] - mn[a]
                     axis = a
         m = lo + (hi - lo) // 2
-        _select_axis(ids, lo, hi, m, P, axis)
+        _select_axis(X, ids, lo, hi, m, axis)
         v = ids[m]
         perm[head] = v
         hint[head] = sib if (sibling and sib >= 0) else parent
@@ -191,12 +213,13 @@ def _hilbert_index_3d(x, y, z, bits):
 
 
 @njit(cache=True)
-def hilbert_keys(P, ids):
+def hilbert_keys(P, ids, bits=0):
     """Hilbert index of each point's cell in the bounding cube of P[ids]
-    cut into (2^k)^d cells (k = 31 in 2D, 21 in 3D)."""
+    cut into (2^k)^d cells (k = ``bits``, default 31 in 2D, 21 in 3D)."""
     n = ids.shape[0]
     d = P.shape[1]
-    bits = 31 if d == 2 else 21
+    if bits == 0:
+        bits = 31 if d == 2 else 21
     lo = np.full(d, np.inf)
     hi = np.full(d, -np.inf)
     for t in range(n):
@@ -221,66 +244,80 @@ def hilbert_keys(P, ids):
 
 
 @njit(cache=True)
-def _median_split(ids, lo, hi, P, axis, up):
-    """Split ids[lo:hi] at its median along ``axis``: the lower half first when
-    ``up``, the upper half first otherwise; returns the split position."""
+def _median_split(ids, lo, hi, X, axis, up):
+    """Split rows [lo, hi) of X and ids at their median along ``axis``: the
+    lower half first when ``up``, the upper half first otherwise; returns
+    the split position."""
     if hi - lo < 2:
         return lo + (hi - lo) // 2
     mid = lo + (hi - lo) // 2
-    _select_axis(ids, lo, hi, mid, P, axis)
+    _select_axis(X, ids, lo, hi, mid, axis)
     if up:
         return mid
-    ids[lo:hi] = ids[lo:hi][::-1].copy()
+    i = lo
+    j = hi - 1
+    while i < j:
+        _swap_rows(X, ids, i, j)
+        i += 1
+        j -= 1
     return lo + (hi - mid)
 
 
 @njit(cache=True)
-def _hilbert_median_2d(P, ids, lo, hi, x, upx, upy):
+def _hilbert_median_2d(X, ids, lo, hi, x, upx, upy):
     if hi - lo <= 1:
         return
     y = 1 - x
-    m2 = _median_split(ids, lo, hi, P, x, upx)
-    m1 = _median_split(ids, lo, m2, P, y, upy)
-    m3 = _median_split(ids, m2, hi, P, y, not upy)
-    _hilbert_median_2d(P, ids, lo, m1, y, upy, upx)
-    _hilbert_median_2d(P, ids, m1, m2, x, upx, upy)
-    _hilbert_median_2d(P, ids, m2, m3, x, upx, upy)
-    _hilbert_median_2d(P, ids, m3, hi, y, not upy, not upx)
+    m2 = _median_split(ids, lo, hi, X, x, upx)
+    m1 = _median_split(ids, lo, m2, X, y, upy)
+    m3 = _median_split(ids, m2, hi, X, y, not upy)
+    _hilbert_median_2d(X, ids, lo, m1, y, upy, upx)
+    _hilbert_median_2d(X, ids, m1, m2, x, upx, upy)
+    _hilbert_median_2d(X, ids, m2, m3, x, upx, upy)
+    _hilbert_median_2d(X, ids, m3, hi, y, not upy, not upx)
 
 
 @njit(cache=True)
-def _hilbert_median_3d(P, ids, lo, hi, x, upx, upy, upz):
+def _hilbert_median_3d(X, ids, lo, hi, x, upx, upy, upz):
     if hi - lo <= 1:
         return
     y = (x + 1) % 3
     z = (x + 2) % 3
-    m4 = _median_split(ids, lo, hi, P, x, upx)
-    m2 = _median_split(ids, lo, m4, P, y, upy)
-    m1 = _median_split(ids, lo, m2, P, z, upz)
-    m3 = _median_split(ids, m2, m4, P, z, not upz)
-    m6 = _median_split(ids, m4, hi, P, y, not upy)
-    m5 = _median_split(ids, m4, m6, P, z, upz)
-    m7 = _median_split(ids, m6, hi, P, z, not upz)
-    _hilbert_median_3d(P, ids, lo, m1, z, upz, upx, upy)
-    _hilbert_median_3d(P, ids, m1, m2, y, upy, upz, upx)
-    _hilbert_median_3d(P, ids, m2, m3, y, upy, upz, upx)
-    _hilbert_median_3d(P, ids, m3, m4, x, upx, not upy, not upz)
-    _hilbert_median_3d(P, ids, m4, m5, x, upx, not upy, not upz)
-    _hilbert_median_3d(P, ids, m5, m6, y, not upy, upz, not upx)
-    _hilbert_median_3d(P, ids, m6, m7, y, not upy, upz, not upx)
-    _hilbert_median_3d(P, ids, m7, hi, z, not upz, not upx, upy)
+    m4 = _median_split(ids, lo, hi, X, x, upx)
+    m2 = _median_split(ids, lo, m4, X, y, upy)
+    m1 = _median_split(ids, lo, m2, X, z, upz)
+    m3 = _median_split(ids, m2, m4, X, z, not upz)
+    m6 = _median_split(ids, m4, hi, X, y, not upy)
+    m5 = _median_split(ids, m4, m6, X, z, upz)
+    m7 = _median_split(ids, m6, hi, X, z, not upz)
+    _hilbert_median_3d(X, ids, lo, m1, z, upz, upx, upy)
+    _hilbert_median_3d(X, ids, m1, m2, y, upy, upz, upx)
+    _hilbert_median_3d(X, ids, m2, m3, y, upy, upz, upx)
+    _hilbert_median_3d(X, ids, m3, m4, x, upx, not upy, not upz)
+    _hilbert_median_3d(X, ids, m4, m5, x, upx, not upy, not upz)
+    _hilbert_median_3d(X, ids, m5, m6, y, not upy, upz, not upx)
+    _hilbert_median_3d(X, ids, m6, m7, y, not upy, upz, not upx)
+    _hilbert_median_3d(X, ids, m7, hi, z, not upz, not upx, upy)
 
 
 def _hilbert_sorted(P, ids, grid=False):
     """ids in Hilbert order: median policy (CGAL's) or grid cells (paper 2)."""
     if grid:
-        return ids[np.argsort(hilbert_keys(P, ids), kind="stable")]
+        return ids[sorted_by_key(hilbert_keys(P, ids))]
     ids = np.array(ids, dtype=np.int64)
+    X = np.ascontiguousarray(P[ids])
     if P.shape[1] == 2:
-        _hilbert_median_2d(P, ids, 0, len(ids), 0, True, True)
+        _hilbert_median_2d(X, ids, 0, len(ids), 0, True, True)
     else:
-        _hilbert_median_3d(P, ids, 0, len(ids), 0, True, True, True)
+        _hilbert_median_3d(X, ids, 0, len(ids), 0, True, True, True)
     return ids
+
+
+def sorted_by_key(keys):
+    """Stable argsort of non-negative int64 keys by radix sort."""
+    perm = np.arange(len(keys), dtype=np.int64)
+    with Workers(1) as workers:
+        return sort_keys(keys.view(np.uint64).copy(), perm, workers)[1]
 
 
 def _previous_as_hint(perm):
