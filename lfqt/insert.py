@@ -312,7 +312,13 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
             return t, (2 if aborted or 4 * d * nb_count > hkeys.shape[0] else 1)
         counts[K_CONFLICTS] += nconf
         # ---- one new cell per boundary facet
-        mask = hkeys.shape[0] - 1
+        # The ridge table uses only a prefix sized to this cavity (load at
+        # most 1/4), so that it stays in L1; stamps invalidate old entries.
+        hbits = 4
+        while (1 << hbits) < 2 * d * nb_count:
+            hbits += 1
+        mask = (1 << hbits) - 1
+        hshift = np.uint64(64 - hbits)
         for b in range(nb_count):
             x = bcell[u(b)]
             i = bface[u(b)]
@@ -354,7 +360,8 @@ def _insert_range(P, d, perm, hint, span, pick, t0, C, N, alive, mark, vcell, fr
                     lo = min(ra, rb) + 1
                     hi = max(ra, rb) + 1
                     key = lo * (n + 1) + hi
-                slot = (key * 0x9E3779B97F4A7C15) & mask
+                # Fibonacci hashing: the product's high bits
+                slot = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
                 while hstamps[u(slot)] == stamp and hkeys[u(slot)] != key:
                     slot = (slot + 1) & mask
                 if hstamps[u(slot)] == stamp:
