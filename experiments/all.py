@@ -2,15 +2,15 @@
 
     python -m experiments.all [--scale smoke|default|paper] [--force] [--out DIR]
 
-Runs fig3, fig4, liu_table1 and liu_table8 (a killed run resumes where it
+Runs fig3, fig4, liu_table1 and liu_counts (a killed run resumes where it
 stopped), then prints where the figures are."""
 import argparse
 import sys
 import time
 
-from . import fig3, fig4, liu_table1, liu_table8
+from . import fig3, fig4, liu_counts, liu_table1
 
-EXPERIMENTS = [fig3, fig4, liu_table1, liu_table8]
+EXPERIMENTS = [fig3, fig4, liu_table1, liu_counts]
 
 
 def main(argv=None):
@@ -28,7 +28,7 @@ def main(argv=None):
         print(f"== {exp.__name__.split('.')[-1]} ({args.scale}) ==", flush=True)
         exp.main(extra)
     print(f"\nDone in {time.time() - t0:.0f} s. Figures: {args.out}/figures/ "
-          f"(fig3, fig4, liu_table1, liu_table8; .png and .svg); tidy results and metadata: "
+          f"(fig3, fig4, liu_table1, liu_counts; .png and .svg); tidy results and metadata: "
           f"{args.out}/<experiment>/")
     return 0
 
