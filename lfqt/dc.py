@@ -22,14 +22,13 @@ Phase 2 (subdivide) writes the quad-tree as a post-order list of ``ops``:
 partitions on top of the stack.  ``code < 128`` is the Morton bit of an LFQT
 split (odd: x-split); ``ALT_X``/``ALT_Y`` are Triangle-style alternating cuts.
 """
-import math
 
 import numpy as np
 from numba import njit
 
 from .indexing import div3, u
 from .predicates import (C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2, C_ORIENT, C_ORIENT_S1,
-                         C_ORIENT_S2, CCW_A, ICC_A, incircle_staged, level_bounds,
+                         C_ORIENT_S2, CCW_A, ICC_A, binade, incircle_staged, level_bounds,
                          orient2d_staged)
 
 GHOST = -1
@@ -112,13 +111,13 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
         st = s_state[top]
         if st == 0:
             if wide:
-                bit = _diff_bit(khi[a], klo[a], khi[b - 1], klo[b - 1])
+                bit = _diff_bit(khi[u(a)], klo[u(a)], khi[u(b - 1)], klo[u(b - 1)])
             else:
-                bit = _diff_bit(_ZERO, klo[a], _ZERO, klo[b - 1])
+                bit = _diff_bit(_ZERO, klo[u(a)], _ZERO, klo[u(b - 1)])
             if bit < 0:
                 for i in range(a, b):
-                    rep[i] = a
-                ops[nops] = -(a + 1)
+                    rep[u(i)] = a
+                ops[u(nops)] = -(a + 1)
                 nops += 1
                 top -= 1
                 continue
@@ -126,7 +125,7 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
             right = b - 1
             while right - left > 1:
                 mid = (left + right) >> 1
-                if _has_bit(khi[mid] if wide else _ZERO, klo[mid], bit):
+                if _has_bit(khi[u(mid)] if wide else _ZERO, klo[u(mid)], bit):
                     right = mid
                 else:
                     left = mid
@@ -144,7 +143,7 @@ def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
             s_hi[top] = b
             s_state[top] = 0
         else:
-            ops[nops] = (s_split[top] << 8) | s_bit[top]
+            ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
             nops += 1
             top -= 1
     return nops
@@ -177,9 +176,9 @@ def subdivide_top(khi, klo, wide, n, bin_size):
         st = s_state[top]
         if st == 0:
             if wide:
-                bit = _diff_bit(khi[a], klo[a], khi[b - 1], klo[b - 1])
+                bit = _diff_bit(khi[u(a)], klo[u(a)], khi[u(b - 1)], klo[u(b - 1)])
             else:
-                bit = _diff_bit(_ZERO, klo[a], _ZERO, klo[b - 1])
+                bit = _diff_bit(_ZERO, klo[u(a)], _ZERO, klo[u(b - 1)])
             if b - a <= bin_size or bit < 0:
                 nodes[count, 0] = a
                 nodes[count, 1] = b
@@ -195,7 +194,7 @@ def subdivide_top(khi, klo, wide, n, bin_size):
             right = b - 1
             while right - left > 1:
                 mid = (left + right) >> 1
-                if _has_bit(khi[mid] if wide else _ZERO, klo[mid], bit):
+                if _has_bit(khi[u(mid)] if wide else _ZERO, klo[u(mid)], bit):
                     right = mid
                 else:
                     left = mid
@@ -365,14 +364,6 @@ def _hidx(e):
     return u + np.uint64(3) * (u // np.uint64(3)) + np.uint64(3)
 
 
-@njit(cache=True, inline="always")
-def _binade(v, scale_exp, emin):
-    if v == 0.0:
-        return emin
-    e = math.frexp(v)[1] - 1 - scale_exp
-    return e if e > emin else emin
-
-
 @njit(cache=True, nogil=True)
 def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
             in_ext, in_single, n_in, out_ext, out_single):
@@ -425,8 +416,8 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                 x_split = (code & 1) == 1
                 if level_filter:
                     probe = ext[lt, XMIN]
-                    ex = _binade(P[u(probe), 0], fmt[4], fmt[3])
-                    ey = _binade(P[u(probe), 1], fmt[4], fmt[3])
+                    ex = binade(P[u(probe), 0], fmt[4], fmt[3])
+                    ey = binade(P[u(probe), 1], fmt[4], fmt[3])
                     ccwb, iccb = level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
                 else:
                     ccwb = CCW_A

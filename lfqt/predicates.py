@@ -20,7 +20,9 @@ that every intermediate value is zero or a normal number.
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 EPS = 2.0 ** -53
 SPLITTER = 2.0 ** 27 + 1.0
@@ -665,6 +667,28 @@ def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     if abs(det) > bound * permanent:
         return det, 0
     return insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez), 2
+
+
+@intrinsic
+def float_bits(typingctx, v):
+    """The IEEE bits of a float64 as an int64 (a register move)."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+    return types.int64(types.float64), codegen
+
+
+@njit(cache=True, inline="always")
+def binade(v, scale_exp, emin):
+    """floor(log2 |v|) - scale_exp, at least emin (emin for zero): the
+    binade of an input value stored scaled by 2**scale_exp.  Stored values
+    are normal (the rescale window); a subnormal would count as emin.  From
+    the exponent bits, since frexp is a library call and this runs once per
+    merge."""
+    biased = (float_bits(v) >> 52) & 0x7FF
+    if biased == 0:
+        return emin
+    e = biased - 1023 - scale_exp
+    return e if e > emin else emin
 
 
 @njit(cache=True)

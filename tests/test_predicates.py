@@ -1,9 +1,13 @@
+import math
 from fractions import Fraction
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, strategies as st
+from numba import njit
 
 from lfqt import dc, morton, predicates as P
+from lfqt.predicates import binade
 from lfqt.api import _exact_coordinates, _scale_exponent
 
 # Magnitudes within one exactness window (the API refuses wider spans).
@@ -183,7 +187,7 @@ def test_level_bounds_are_sound(sample):
     except ValueError:
         assume(False)
     xs, ys = x * 2.0 ** s, y * 2.0 ** s
-    ex, ey = dc._binade(xs[0], s, emin), dc._binade(ys[0], s, emin)
+    ex, ey = binade(xs[0], s, emin), binade(ys[0], s, emin)
     ccw, icc = P.level_bounds(level, bits, ebits, mbits, ex, ey)
     assert ccw <= P.CCW_A and icc <= P.ICC_A
     a, b, c, d = [(float(xs[i]), float(ys[i])) for i in range(4)]
@@ -201,3 +205,24 @@ def test_level_bounds_tighten_below_the_exponent_bits():
     assert P.level_bounds(4, 32, 8, 23, 0, 0) == (0.0, 0.0)
     ccw, icc = P.level_bounds(60, 64, 11, 52, 0, 0)
     assert ccw == P.CCW_EXACT_DIFF and icc == P.ICC_EXACT_DIFF
+
+
+@njit(cache=True)
+def _binades(values, scale_exp, emin):
+    out = np.empty(values.shape[0], dtype=np.int64)
+    for i in range(values.shape[0]):
+        out[i] = binade(values[i], scale_exp, emin)
+    return out
+
+
+@pytest.mark.parametrize("scale_exp, emin", [(0, -1022), (40, -126), (-300, -1022)])
+def test_binade_matches_frexp(scale_exp, emin):
+    rng = np.random.default_rng(7)
+    values = np.concatenate([rng.random(200) * 2.0 ** rng.integers(-1000, 1000, 200),
+                             [0.0, -0.0, -2.0 ** -1022, 1.0, -3.0, 2.0 ** 1023]])
+    got = _binades(values, scale_exp, emin)
+    for v, g in zip(values, got):
+        want = emin if v == 0.0 else max(math.frexp(v)[1] - 1 - scale_exp, emin)
+        assert g == want, (v, g, want)
+    # stored values are rescaled into the normal range; a subnormal counts as emin
+    assert _binades(np.array([5e-324, -2.0 ** -1030]), scale_exp, emin).tolist() == [emin, emin]

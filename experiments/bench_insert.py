@@ -1,0 +1,67 @@
+"""Issue-5 benchmark: lfqt.insert against CGAL on the same input in the
+same run, single thread.
+
+    python -m experiments.bench_insert [--scale smoke|default|paper]
+
+2D: lfqt's Kd-order insertion against CGAL's Delaunay_triangulation_2 (range
+insertion, which spatially sorts).  3D: lfqt's Kd-order insertion against
+CGAL's Delaunay_triangulation_3 range insertion and against CGAL inserting
+our Kd order one point at a time with the parent as hint (paper 2's setup).
+Times include order building.  The figure shows the medians; each CGAL bar
+is labelled with lfqt's time divided by CGAL's (> 1: CGAL is faster; the
+target is at most 1.5 against the range insertion)."""
+import sys
+
+from . import common
+from .runner import Cell, summarize
+
+SIZES = {"smoke": [5_000], "default": [100_000, 1_000_000], "paper": [1_000_000, 3_000_000]}
+# (dimension, distribution, ours, CGAL peers)
+SETUPS = [(2, "uniform", "lfqt-insert-kdtree", ["cgal-dt2", "cgal-dt2-kdtree"]),
+          (3, "cube", "lfqt-insert-kdtree", ["cgal-dt3", "cgal-dt3-kdtree"])]
+TARGET = 1.5
+
+
+def grid(scale, threads):
+    return [Cell(peer, dist, n) for n in SIZES[scale] for _, dist, ours, cgal in SETUPS
+            for peer in [ours] + cgal]
+
+
+def plot(rows, out, scale):
+    import matplotlib.pyplot as plt
+    s = summarize(rows)
+    ns = sorted({r["n"] for r in rows})
+    fig, axes = plt.subplots(1, len(SETUPS), figsize=(6 * len(SETUPS), 4.5), squeeze=False)
+    print(f"\n{'dim':>3} {'n':>10} {'peer':18} {'median s':>9} {'min s':>8} {'lfqt/peer':>10}"
+          f"   (lfqt time / peer time; target <= {TARGET} against range insertion)")
+    for ax, (dim, dist, ours, cgal) in zip(axes[0], SETUPS):
+        peers = [ours] + cgal
+        width = 0.8 / len(peers)
+        for k, peer in enumerate(peers):
+            med = [(s.get((peer, dist, n, "", False)) or {}).get("median") for n in ns]
+            xs = [i + k * width for i in range(len(ns))]
+            ax.bar(xs, [m or 0 for m in med], width, label=peer)
+            for x, m, n in zip(xs, med, ns):
+                base = (s.get((ours, dist, n, "", False)) or {}).get("median")
+                r = common.ratio(base, m)
+                lo = (s.get((peer, dist, n, "", False)) or {}).get("min")
+                if m:
+                    ax.text(x, m, f"{m:.2f}s" + ("" if peer == ours else f"\n{r:.2f}x"),
+                            ha="center", va="bottom", fontsize=7)
+                    print(f"{dim:>3} {n:>10,} {peer:18} {m:9.3f} {lo:8.3f} "
+                          f"{common.fmt_ratio(r) if peer != ours else '':>10}")
+        ax.set_xticks([i + 0.4 - width / 2 for i in range(len(ns))], [f"{n:,}" for n in ns])
+        ax.set_ylabel("seconds (median)")
+        ax.set_title(f"{dim}D, {dist}: insertion in Kd order vs CGAL")
+        ax.legend(fontsize=8)
+        ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return common.figure_paths(fig, out, "bench_insert")
+
+
+def main(argv=None):
+    return common.main("bench_insert", __doc__, grid, plot, argv, repeats=5)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
