@@ -68,3 +68,14 @@ def test_main_job_at_smoke_scale(tmp_path, capsys):
     # --plot-only redraws from stored results without measuring
     from experiments import fig3
     assert fig3.main(["--scale", "smoke", "--out", str(tmp_path), "--plot-only"]) == 0
+
+
+def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, capsys):
+    from experiments import bench_insert
+    assert bench_insert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
+                              "--repeats", "1"]) == 0
+    rows = runner.load(tmp_path / "bench_insert")
+    assert {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"} == {
+        (peer, dist) for _, dist, ours, cgal in bench_insert.SETUPS for peer in [ours] + cgal}
+    assert (tmp_path / "figures" / "bench_insert.png").stat().st_size > 20000
+    assert "lfqt time / peer time" in capsys.readouterr().out
