@@ -26,8 +26,7 @@ import numpy as np
 from numba import njit
 
 from .indexing import u
-from .parallel import Workers
-from .radix import sort_keys
+from .radix import radix_sort_range
 
 ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
 BRIO_RATIO = {2: 0.25, 3: 0.125}
@@ -315,9 +314,11 @@ def _hilbert_sorted(P, ids, grid=False):
 
 def sorted_by_key(keys):
     """Stable argsort of non-negative int64 keys by radix sort."""
+    sorted_keys = keys.view(np.uint64).copy()
     perm = np.arange(len(keys), dtype=np.int64)
-    with Workers(1) as workers:
-        return sort_keys(keys.view(np.uint64).copy(), perm, workers)[1]
+    radix_sort_range(sorted_keys, perm, 0, len(keys), np.empty_like(sorted_keys),
+                     np.empty_like(perm))
+    return perm
 
 
 def _previous_as_hint(perm):
