@@ -59,14 +59,16 @@ def _as_exact_float(points, dims):
 
 
 def _coordinates(points, workers=None):
-    """Validate (n, 2) input; return (x, y) as contiguous float32 or float64
-    arrays holding exactly the input values."""
+    """Validate (n, 2) input; return (x, y, scale exponent).  x and y are
+    float32 or float64 views of one array holding exactly the input values
+    (no copies: a point's x and y then share a cache line in the Morton-order
+    gather); the exponent is _scale_exponent's, from the same scan."""
     arr = _as_exact_float(points, (2,))
-    x, y = np.ascontiguousarray(arr[:, 0]), np.ascontiguousarray(arr[:, 1])
-    bad, first, _, _ = _scan_all(x, y, workers)
+    x, y = arr[:, 0], arr[:, 1]
+    bad, first, big, small = _scan_all(x, y, workers)
     if bad:
         raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
-    return x, y
+    return x, y, _exponent_for(x.dtype, big, small)
 
 
 def _scan_all(x, y, workers=None):
@@ -105,9 +107,13 @@ def _scan(x, y, lo, hi):
 def _scale_exponent(x, y, workers=None):
     """Power of two that brings all coordinates into the exactness window, or
     ValueError when their magnitudes span too many binades."""
-    if x.dtype == np.float32 or x.size == 0:
-        return 0  # float32's whole range already fits the window
     _, _, big, small = _scan_all(x, y, workers)
+    return _exponent_for(x.dtype, big, small)
+
+
+def _exponent_for(dtype, big, small):
+    if dtype == np.float32:
+        return 0  # float32's whole range already fits the window
     return _window_exponent(big, small, MAX_EXP, MIN_ULP_EXP)
 
 
@@ -133,8 +139,7 @@ def _window_exponent(big, small, max_exp, min_ulp_exp):
 def _exact_coordinates(points):
     """float64 coordinates, rescaled by an exact power of two so that the
     predicates are exact on them."""
-    x, y = _coordinates(points)
-    s = _scale_exponent(x, y)
+    x, y, s = _coordinates(points)
     return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
 
 
@@ -203,9 +208,8 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=False, filter
 
 def _triangulate(points, workers, subdivision, counters, filter, schedule):
     t0 = time.perf_counter()
-    x, y = _coordinates(points, workers)
+    x, y, scale_exp = _coordinates(points, workers)
     n = x.shape[0]
-    scale_exp = _scale_exponent(x, y, workers)
     idx = np.zeros(1, dtype=_index_dtype(n))
     wide = x.dtype == np.float64
     coord_bits, exp_bits, mant_bits, emin = FORMATS[x.dtype]
@@ -271,18 +275,19 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
 
     # Output: the real triangles, in input indices, compacted in parallel.
     slot_chunks = workers.chunks(nslots)
-    counts = workers.map(slot_chunks, lambda c, lo, hi: dc.count_real(T, lo, hi))
-    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
     newid = np.empty(nslots, dtype=idx.dtype)
-    workers.map(slot_chunks, lambda c, lo, hi: dc.number_real(T, newid, lo, hi, starts[c]))
+    counts = workers.map(slot_chunks, lambda c, lo, hi: dc.number_real(T, newid, lo, hi))
+    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+    if len(slot_chunks) > 1:
+        workers.map(slot_chunks, lambda c, lo, hi: dc.offset_ids(newid, lo, hi, starts[c]))
     simplices = np.empty((int(starts[-1]), 3), dtype=idx.dtype)
     neighbors = np.empty((int(starts[-1]), 3), dtype=idx.dtype)
     workers.map(slot_chunks, lambda c, lo, hi: dc.write_real(T, newid, perm, simplices, neighbors,
                                                              lo, hi))
     del newid
     duplicate_of = np.empty(n, dtype=idx.dtype)
-    workers.map(chunks, lambda c, lo, hi: dc.duplicates_into(rep, perm, duplicate_of, lo, hi))
-    n_distinct = int(n - np.count_nonzero(rep != np.arange(n))) if n else 0
+    n_distinct = int(sum(workers.map(
+        chunks, lambda c, lo, hi: dc.duplicates_into(rep, perm, duplicate_of, lo, hi))))
     degenerate, reason = False, ""
     if len(simplices):
         hull = dc.hull_loop(T, ghost_out[out_ext[0, dc.XMIN]], perm, idx)

@@ -319,23 +319,10 @@ def subdivide_alternating(ids, P, ops):
 
 
 @njit(cache=True, inline="always")
-def u(i):
-    """An index as unsigned: numba then skips its negative-index wraparound,
-    which in the merge loop costs more than a quarter of the run time (with
-    Python's floor semantics of signed // and %)."""
-    return np.uint64(i)
-
-
-@njit(cache=True, inline="always")
 def _slot(t, i):
     """Index in T of entry i of triangle t (0-2 vertices, 3-5 twins),
     unsigned (see lfqt.indexing)."""
     return np.uint64(6 * t + i)
-
-
-@njit(cache=True, inline="always")
-def div3(e):
-    return np.int64(np.uint64(e) // np.uint64(3))
 
 
 @njit(cache=True, inline="always")
@@ -689,26 +676,25 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
 
 
 @njit(cache=True, nogil=True)
-def count_real(T, lo, hi):
-    """Real (non-ghost, used) triangles among slots [lo, hi)."""
+def number_real(T, newid, lo, hi):
+    """Ids 0, 1, ... for the real (non-ghost, used) triangles of slots
+    [lo, hi), -1 for the others; returns how many are real.  Branch-free:
+    the short-circuit form compiled to a loop five times slower."""
     m = 0
     for t in range(lo, hi):
-        if T[_slot(t, 0)] >= 0 and T[_slot(t, 1)] >= 0 and T[_slot(t, 2)] >= 0:
-            m += 1
+        real = (T[_slot(t, 0)] >= 0) & (T[_slot(t, 1)] >= 0) & (T[_slot(t, 2)] >= 0)
+        newid[u(t)] = m if real else -1
+        m += real
     return m
 
 
 @njit(cache=True, nogil=True)
-def number_real(T, newid, lo, hi, start):
-    """Output ids start, start+1, ... for the real triangles of [lo, hi);
-    -1 for the others."""
-    m = start
+def offset_ids(newid, lo, hi, offset):
+    """Add a chunk's output offset to its numbered triangles."""
     for t in range(lo, hi):
-        if T[_slot(t, 0)] >= 0 and T[_slot(t, 1)] >= 0 and T[_slot(t, 2)] >= 0:
-            newid[u(t)] = m
-            m += 1
-        else:
-            newid[u(t)] = -1
+        k = newid[u(t)]
+        if k >= 0:
+            newid[u(t)] = k + offset
 
 
 @njit(cache=True, nogil=True)
@@ -757,9 +743,14 @@ def gather_points(x, y, perm, scale, P, lo, hi):
 
 @njit(cache=True, nogil=True)
 def duplicates_into(rep, perm, out, lo, hi):
-    """duplicate_of in input indices from representatives in sorted order."""
+    """duplicate_of in input indices from representatives in sorted order;
+    returns how many positions of [lo, hi) represent themselves."""
+    distinct = 0
     for i in range(lo, hi):
-        out[u(perm[u(i)])] = perm[u(rep[u(i)])]
+        r = rep[u(i)]
+        out[u(perm[u(i)])] = perm[u(r)]
+        distinct += r == i
+    return distinct
 
 
 @njit(cache=True, nogil=True)
