@@ -25,6 +25,7 @@ split (odd: x-split); ``ALT_X``/``ALT_Y`` are Triangle-style alternating cuts.
 
 import numpy as np
 from numba import njit
+from numba.cpython.unsafe.numbers import leading_zeros
 
 from .indexing import div3, u
 from .predicates import (C_INCIRCLE, C_INCIRCLE_S1, C_INCIRCLE_S2, C_ORIENT, C_ORIENT_S1,
@@ -47,26 +48,8 @@ _ZERO = np.uint64(0)
 
 @njit(cache=True, inline="always")
 def _bsr(x):
-    """Index of the highest set bit of a non-zero uint64."""
-    b = 0
-    if x >> np.uint64(32):
-        x >>= np.uint64(32)
-        b += 32
-    if x >> np.uint64(16):
-        x >>= np.uint64(16)
-        b += 16
-    if x >> np.uint64(8):
-        x >>= np.uint64(8)
-        b += 8
-    if x >> np.uint64(4):
-        x >>= np.uint64(4)
-        b += 4
-    if x >> np.uint64(2):
-        x >>= np.uint64(2)
-        b += 2
-    if x >> np.uint64(1):
-        b += 1
-    return b
+    """Index of the highest set bit of a non-zero uint64 (one lzcnt)."""
+    return 63 - leading_zeros(x)
 
 
 @njit(cache=True, inline="always")
@@ -92,60 +75,50 @@ def _has_bit(hi, lo, bit):
 
 @njit(cache=True, nogil=True)
 def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
-    """Algorithm 1 of fqDel without recursion: append the post-order ops of
-    the quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
+    """Algorithm 1 of fqDel as one sweep: append the post-order ops of the
+    quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
     Runs of equal keys become one vertex; ``rep[i]`` is set to the sorted
-    position that represents position i.  Returns the new op count."""
-    s_lo = np.empty(_STACK, dtype=np.int64)
-    s_hi = np.empty(_STACK, dtype=np.int64)
+    position that represents position i.  Returns the new op count.
+
+    A node splits at the gap where its first and last keys first differ,
+    and that gap's highest differing bit is the largest of all gaps in the
+    node, so the quad-tree is the Cartesian tree of the adjacent keys'
+    differing bits.  Its post-order falls out of a stack of open splits, in
+    O(n) and without Algorithm 1's binary search per node; the ops are the
+    same as the recursive form's.
+    """
+    if hi <= lo:
+        return nops
     s_split = np.empty(_STACK, dtype=np.int64)
     s_bit = np.empty(_STACK, dtype=np.int64)
-    s_state = np.empty(_STACK, dtype=np.int64)
-    top = 0
-    s_lo[0] = lo
-    s_hi[0] = hi
-    s_state[0] = 0
-    while top >= 0:
-        a = s_lo[top]
-        b = s_hi[top]
-        st = s_state[top]
-        if st == 0:
-            if wide:
-                bit = _diff_bit(khi[u(a)], klo[u(a)], khi[u(b - 1)], klo[u(b - 1)])
-            else:
-                bit = _diff_bit(_ZERO, klo[u(a)], _ZERO, klo[u(b - 1)])
-            if bit < 0:
-                for i in range(a, b):
-                    rep[u(i)] = a
-                ops[u(nops)] = -(a + 1)
-                nops += 1
-                top -= 1
-                continue
-            left = a
-            right = b - 1
-            while right - left > 1:
-                mid = (left + right) >> 1
-                if _has_bit(khi[u(mid)] if wide else _ZERO, klo[u(mid)], bit):
-                    right = mid
-                else:
-                    left = mid
-            s_split[top] = right
-            s_bit[top] = bit
-            s_state[top] = 1
-            top += 1
-            s_lo[top] = a
-            s_hi[top] = right
-            s_state[top] = 0
-        elif st == 1:
-            s_state[top] = 2
-            top += 1
-            s_lo[top] = s_split[top - 1]
-            s_hi[top] = b
-            s_state[top] = 0
+    top = -1  # open splits, bits strictly decreasing upwards
+    run = lo
+    rep[u(lo)] = lo
+    ops[u(nops)] = -(lo + 1)
+    nops += 1
+    for i in range(lo + 1, hi):
+        if wide:
+            bit = _diff_bit(khi[u(i - 1)], klo[u(i - 1)], khi[u(i)], klo[u(i)])
         else:
+            bit = _diff_bit(_ZERO, klo[u(i - 1)], _ZERO, klo[u(i)])
+        if bit < 0:
+            rep[u(i)] = run
+            continue
+        while top >= 0 and s_bit[top] < bit:
             ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
             nops += 1
             top -= 1
+        top += 1
+        s_split[top] = i
+        s_bit[top] = bit
+        run = i
+        rep[u(i)] = i
+        ops[u(nops)] = -(i + 1)
+        nops += 1
+    while top >= 0:
+        ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
+        nops += 1
+        top -= 1
     return nops
 
 

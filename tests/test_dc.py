@@ -164,3 +164,45 @@ def test_random_uniform_sets_match_between_subdivisions(seed, n):
     a = triangulate_verified(pts, subdivision="lfqt")
     b = triangulate_verified(pts, subdivision="alternating")
     assert triangle_set(a.simplices) == triangle_set(b.simplices)
+
+
+def algorithm1_ops(keys, lo, hi):
+    """fqDel's Algorithm 1 as written (recursive, binary search for the
+    split), on Python ints: post-order ops and representatives."""
+    ops, rep = [], {}
+
+    def node(a, b):
+        diff = keys[a] ^ keys[b - 1]
+        if diff == 0:
+            rep.update({i: a for i in range(a, b)})
+            ops.append(-(a + 1))
+            return
+        bit = diff.bit_length() - 1
+        split = next(i for i in range(a, b) if keys[i] >> bit & 1)
+        node(a, split)
+        node(split, b)
+        ops.append((split << 8) | bit)
+
+    node(lo, hi)
+    return ops, [rep[i] for i in range(lo, hi)]
+
+
+@given(st.lists(st.integers(0, 2 ** 128 - 1) | st.integers(0, 40), min_size=1, max_size=80),
+       st.data())
+def test_subdivision_sweep_equals_algorithm_1(values, data):
+    from lfqt import dc
+    keys = sorted(values)
+    n = len(keys)
+    lo = data.draw(st.integers(0, n - 1))
+    hi = data.draw(st.integers(lo + 1, n))
+    khi = np.array([k >> 64 for k in keys], dtype=np.uint64)
+    klo = np.array([k & (2 ** 64 - 1) for k in keys], dtype=np.uint64)
+    ops = np.zeros(2 * n + 3, dtype=np.int64)
+    rep = np.full(n, -5, dtype=np.int32)
+    end = dc.subdivide_lfqt(khi, klo, True, lo, hi, ops, 3, rep)
+    expect_ops, expect_rep = algorithm1_ops(keys, lo, hi)
+    assert ops[3:end].tolist() == expect_ops
+    assert rep[lo:hi].tolist() == expect_rep
+    if all(k < 2 ** 64 for k in keys):  # 64-bit keys (float32 input)
+        end64 = dc.subdivide_lfqt(khi[:0], klo, False, lo, hi, ops, 0, rep)
+        assert ops[:end64].tolist() == expect_ops
