@@ -502,11 +502,10 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                         T[_hidx(g2)] = 3 * GL + 2
                         GL = tt
                         lc = x
-                        o, st = orient2d_staged(xl, yl, xr, yr, P[u(lc), 0], P[u(lc), 1], ccwb)
-                        n_orient += 1
-                        s_orient += st
-                        s2_orient += st >> 1
-                        lvalid = o > 0.0
+                        # x was strictly inside the circle through l, r and
+                        # the old lc, on the far side of l-lc from r: it is
+                        # strictly above the base, valid without an orient
+                        # test (as in Triangle's merge).
                 GR = div3(T[_slot(A, 4)])
                 rvalid = False
                 if GR != B:
@@ -548,12 +547,7 @@ def run_ops(ops, op_lo, op_hi, P, T, ghost_out, fmt, level_filter, counters,
                         T[_hidx(t_x_rc)] = 3 * tt
                         T[_hidx(3 * tt + 1)] = g1
                         T[_hidx(g1)] = 3 * tt + 1
-                        rc = x
-                        o, st = orient2d_staged(xl, yl, xr, yr, P[u(rc), 0], P[u(rc), 1], ccwb)
-                        n_orient += 1
-                        s_orient += st
-                        s2_orient += st >> 1
-                        rvalid = o > 0.0
+                        rc = x  # valid, as on the left
                 if not lvalid and not rvalid:
                     break
                 choose_right = not lvalid
