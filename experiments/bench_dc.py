@@ -1,47 +1,48 @@
-"""Issue-2 benchmark: lfqt's divide and conquer against the 2D peers, same
-input, same run.
+"""Issue-2 benchmark: lfqt's divide and conquer against the 2D peers, on the
+same input in the same run, single thread.
 
-    python -m experiments.bench_dc [--scale small|default|full] [--repeats R]
-                                   [--peers a,b] [--dists a,b] [--sizes 1e5,1e6]
+    python -m experiments.bench_dc [--scale smoke|default|paper] [--rounds R]
+                                   [--repeats K] [--peers a,b] [--dists a,b]
+                                   [--sizes 1e5,1e6] [--no-compile-time]
 
-Every cell runs in a child process (time and memory limits) after an
-untimed warm-up; we report the median and minimum of R runs, each peer's
-median as a ratio to lfqt-dc's (> 1: lfqt is faster), lfqt's rate in
-points/s, and lfqt's peak memory above its input in bytes per point.
-Compile time is measured apart, in fresh processes with a cold and a warm
-numba cache.  Writes results/bench_dc/bench_dc.csv and a metadata sidecar.
+Every cell runs in a child process after an untimed warm-up.  The grid is
+measured R times, round after round (default 3 rounds of 3 runs), so that a
+drift of this shared machine's speed hits every peer alike; medians and
+minima pool the rounds.  We print each peer's median as a ratio to
+lfqt-dc's (> 1: lfqt is faster; targets: Triangle >= 3, CGAL >= 2), lfqt's
+rate in points/s and its peak memory above the input in bytes per point.
+Compile time is measured apart, in fresh interpreters with a cold and a
+warm numba cache.  Results: results/bench_dc/ (tidy CSV, metadata,
+compile.json), figure results/figures/bench_dc.png.
 """
-import argparse
-import csv
 import json
 import os
-import platform
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-import numpy as np
+from . import common
+from .runner import Cell, summarize
 
-import drivers
-import generators
-
-SCALES = {
-    "small": dict(sizes=[100_000], dists=["uniform"], repeats=3,
-                  peers=["lfqt-dc", "lfqt-dc-alternating", "triangle", "cgal-dt2", "qhull-2d"]),
-    "default": dict(sizes=[100_000, 1_000_000], dists=["uniform", "grid", "cluster"], repeats=5,
-                    peers=["lfqt-dc", "lfqt-dc-alternating", "triangle", "cgal-dt2", "qhull-2d"]),
-    "full": dict(sizes=[100_000, 1_000_000, 3_000_000, 10_000_000],
-                 dists=["uniform", "grid", "cluster"], repeats=5,
-                 peers=["lfqt-dc", "lfqt-dc-alternating", "triangle", "cgal-dt2", "qhull-2d"]),
-}
-QHULL_MAX = 1_000_000  # Qhull needs ~13 s per run at 1M: larger sizes are skipped
+SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
+         "paper": [100_000, 1_000_000, 3_000_000, 10_000_000]}
+DISTS = {"smoke": ["uniform"], "default": ["uniform", "grid", "cluster"],
+         "paper": ["uniform", "grid", "cluster"]}
+PEERS = ["lfqt-dc", "lfqt-dc-alternating", "triangle", "cgal-dt2", "qhull-2d"]
+QHULL_MAX = 1_000_000  # Qhull needs ~13 s per run at 1M: larger sizes are left out
 REFERENCE = "lfqt-dc"
+TARGETS = {"triangle": 3.0, "cgal-dt2": 2.0}  # issue 2: peer time / lfqt time at 1M
+
+
+def grid(scale, threads):
+    return [Cell(peer, dist, n, threads=threads if peer == REFERENCE else 1)
+            for dist in DISTS[scale] for n in SIZES[scale] for peer in PEERS
+            if not (peer.startswith("qhull") and n > QHULL_MAX)]
 
 
 def compile_seconds():
-    """(cold compile, cached load) of the first triangulate call, each in a
+    """(cold compile, cached load) of the first triangulate calls, each in a
     fresh interpreter."""
     code = ("import time, numpy as np; t=time.perf_counter(); import lfqt; "
             "lfqt.triangulate(np.random.default_rng(0).random((1000, 2))); "
@@ -54,97 +55,91 @@ def compile_seconds():
     return out[0], out[1]
 
 
-def run(scale, sizes=None, dists=None, peers=None, repeats=None, out_dir="results/bench_dc",
-        timeout=900.0):
-    cfg = dict(SCALES[scale])
-    sizes = sizes or cfg["sizes"]
-    dists = dists or cfg["dists"]
-    peers = peers or cfg["peers"]
-    repeats = repeats or cfg["repeats"]
-    rows = []
+def setup(args, out_dir):
+    if args.no_compile_time:
+        return
+    cold, warm = compile_seconds()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "compile.json").write_text(json.dumps(
+        {"compile_cold_s": cold, "compile_cached_s": warm}, indent=2))
+
+
+def plot(rows, out, scale):
+    import matplotlib.pyplot as plt
+    s = summarize(rows)
+    dists = [d for d in DISTS["paper"] if any(r["distribution"] == d for r in rows)]
+    ns = sorted({r["n"] for r in rows})
+    peers = [p for p in PEERS if any(r["peer"] == p for r in rows)]
+
+    def cell(peer, dist, n):
+        return s.get((peer, dist, n, "", False)) or {}
+
+    print(f"\n{'set':8} {'n':>10} {'peer':20} {'median s':>9} {'min s':>8} {'peer/lfqt':>9} "
+          f"{'Mpt/s':>6} {'B/pt':>5}   (peer/lfqt > 1: lfqt is faster; pooled over rounds)")
     for dist in dists:
-        for n in sizes:
-            pts = np.asarray(generators.make(dist, n))
-            ref = None
-            for name in peers:
-                ok, why = drivers.available(name)
-                row = dict(distribution=dist, n=n, peer=name)
-                if not ok:
-                    rows.append(dict(row, status="unavailable", detail=why))
+        for n in ns:
+            ref = cell(REFERENCE, dist, n).get("median")
+            for peer in peers:
+                c = cell(peer, dist, n)
+                if not c:
                     continue
-                if name.startswith("qhull") and n > QHULL_MAX:
-                    rows.append(dict(row, status="skipped", detail=f"Qhull above {QHULL_MAX} points"))
+                if c.get("median") is None:
+                    print(f"{dist:8} {n:>10,} {peer:20} {c['status']}: {c['detail'][:60]}")
                     continue
-                m = drivers.measure_isolated(drivers.make(name), pts, repeats=repeats,
-                                             timeout=timeout)
-                if not m.ok:
-                    rows.append(dict(row, status=m.reason, detail=m.detail))
-                    print(f"{dist:8s} {n:>10,d} {name:22s} FAILED: {m.reason} {m.detail[:80]}")
-                    continue
-                med, best = float(np.median(m.seconds)), float(min(m.seconds))
-                if name == REFERENCE:
-                    ref = med
-                rows.append(dict(row, status="ok", median_s=med, min_s=best,
-                                 ratio_to_lfqt=med / ref if ref else None,
-                                 mpts_per_s=n / med / 1e6,
-                                 bytes_per_point=m.extra_peak_bytes / n, version=m.version))
-                r = rows[-1]
-                print(f"{dist:8s} {n:>10,d} {name:22s} median {med:8.3f} s  min {best:8.3f} s  "
-                      f"{'ratio %5.2fx' % r['ratio_to_lfqt'] if ref else '':12s} "
-                      f"{r['mpts_per_s']:6.2f} Mpt/s  {r['bytes_per_point']:6.0f} B/pt", flush=True)
-    return rows
+                r = common.ratio(c["median"], ref)
+                print(f"{dist:8} {n:>10,} {peer:20} {c['median']:9.3f} {c['min']:8.3f} "
+                      f"{common.fmt_ratio(r) if peer != REFERENCE else '':>9} "
+                      f"{n / c['median'] / 1e6:6.2f} {c['bytes_per_point'] or 0:5.0f}")
+        rates = [n / cell(REFERENCE, dist, n)["median"] / 1e6 for n in ns
+                 if cell(REFERENCE, dist, n).get("median")]
+        if len(rates) > 1:
+            print(f"{REFERENCE} rate on {dist}: {min(rates):.2f} to {max(rates):.2f} Mpt/s "
+                  f"(max/min {max(rates) / min(rates):.2f}; target <= 1.25)")
+    compile_file = Path(out) / "bench_dc" / "compile.json"
+    if compile_file.exists():
+        c = json.loads(compile_file.read_text())
+        print(f"first calls incl. JIT: cold cache {c['compile_cold_s']:.1f} s, "
+              f"warm cache {c['compile_cached_s']:.1f} s")
 
-
-def machine():
-    info = dict(python=platform.python_version(), platform=platform.platform(), cores=os.cpu_count())
-    try:
-        info["cpu"] = next(l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo")
-                           if l.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    try:
-        info["commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True,
-                                        text=True).stdout.strip()
-    except OSError:
-        pass
-    return info
+    fig, axes = plt.subplots(2, len(dists), figsize=(5 * len(dists), 7.5), squeeze=False,
+                             sharex=True)
+    colors = dict(zip(PEERS, ["#1f77b4", "#17becf", "#d62728", "#2ca02c", "#7f7f7f"]))
+    for k, dist in enumerate(dists):
+        top, bottom = axes[0][k], axes[1][k]
+        for peer in peers:
+            pts = [(n, cell(peer, dist, n)["median"]) for n in ns
+                   if cell(peer, dist, n).get("median")]
+            if pts:
+                top.plot(*zip(*pts), "o-", color=colors[peer], label=peer,
+                         lw=2.5 if peer == REFERENCE else 1.5)
+            ratios = [(n, common.ratio(cell(peer, dist, n).get("median"),
+                                       cell(REFERENCE, dist, n).get("median"))) for n in ns]
+            ratios = [(n, r) for n, r in ratios if r == r]
+            if peer != REFERENCE and ratios:
+                bottom.plot(*zip(*ratios), "o-", color=colors[peer], label=peer)
+                for n, r in ratios:
+                    bottom.annotate(f"{r:.1f}x", (n, r), textcoords="offset points",
+                                    xytext=(4, 4), fontsize=7, color=colors[peer])
+        for peer, target in TARGETS.items():
+            if peer in peers:
+                bottom.axhline(target, ls=":", color=colors[peer], lw=1)
+        top.set(xscale="log", yscale="log", title=dist, ylabel="seconds (median)")
+        bottom.set(xscale="log", yscale="log", xlabel="points",
+                   ylabel="peer time / lfqt-dc time")
+        bottom.axhline(1.0, color="black", lw=0.8)
+        for ax in (top, bottom):
+            ax.grid(True, which="both", alpha=0.3)
+        if k == 0:
+            top.legend(fontsize=8)
+    fig.suptitle("Issue 2: lfqt-dc against the 2D peers, same input, same run "
+                 "(dotted: targets, Triangle 3x and CGAL 2x)")
+    fig.tight_layout()
+    return common.figure_paths(fig, out, "bench_dc")
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m experiments.bench_dc", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scale", choices=list(SCALES), default="default")
-    ap.add_argument("--repeats", type=int)
-    ap.add_argument("--peers", type=lambda s: s.split(","))
-    ap.add_argument("--dists", type=lambda s: s.split(","))
-    ap.add_argument("--sizes", type=lambda s: [int(float(v)) for v in s.split(",")])
-    ap.add_argument("--out", default="results/bench_dc")
-    ap.add_argument("--no-compile-time", action="store_true")
-    args = ap.parse_args(argv)
-    t0 = time.time()
-    meta = dict(command=" ".join(sys.argv), date=time.strftime("%Y-%m-%d %H:%M:%S"), **machine())
-    if not args.no_compile_time:
-        cold, warm = compile_seconds()
-        meta.update(compile_cold_s=cold, compile_cached_s=warm)
-        print(f"first call incl. JIT: cold cache {cold:.1f} s, warm cache {warm:.1f} s")
-    rows = run(args.scale, args.sizes, args.dists, args.peers, args.repeats, args.out)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    keys = sorted({k for r in rows for k in r})
-    with open(out / "bench_dc.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
-    lf = [r for r in rows if r["peer"] == REFERENCE and r["status"] == "ok"]
-    for dist in sorted({r["distribution"] for r in lf}):
-        rates = [r["mpts_per_s"] for r in lf if r["distribution"] == dist]
-        if len(rates) > 1:
-            print(f"lfqt-dc rate on {dist}: {min(rates):.2f} to {max(rates):.2f} Mpt/s "
-                  f"(max/min {max(rates) / min(rates):.2f})")
-    meta["seconds"] = time.time() - t0
-    (out / "bench_dc.meta.json").write_text(json.dumps(meta, indent=2))
-    print(f"wrote {out / 'bench_dc.csv'} ({meta['seconds']:.0f} s)")
-    return 0
+    return common.main("bench_dc", __doc__, grid, plot, argv, repeats=3, rounds=3,
+                       options=[("--no-compile-time", dict(action="store_true"))], setup=setup)
 
 
 if __name__ == "__main__":

@@ -30,25 +30,45 @@ def figure_paths(fig, out, name):
     return paths
 
 
-def main(name, description, grid, plot, argv=None, repeats=3):
+def main(name, description, grid, plot, argv=None, repeats=3, rounds=1, options=(), setup=None):
     """Parse the common options, run the grid through the runner (unless
-    --plot-only), then draw the figure from the stored results."""
-    ap = argparse.ArgumentParser(prog=f"python -m experiments.{name}", description=description)
+    --plot-only), then draw the figure from the stored results.
+
+    ``options``: extra (flag, argparse keywords) of this experiment;
+    ``setup(args, out_dir)``: runs before the grid (not with --plot-only).
+    """
+    ap = argparse.ArgumentParser(prog=f"python -m experiments.{name}", description=description,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scale", choices=SCALES, default="default")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--peers", type=lambda s: s.split(","), help="registry keys, comma separated")
-    ap.add_argument("--repeats", type=int, default=repeats)
+    ap.add_argument("--repeats", type=int, default=repeats, help="timed runs per cell and round")
+    ap.add_argument("--rounds", type=int, default=rounds,
+                    help="measure the whole grid this many times, interleaving the peers in time")
+    ap.add_argument("--sizes", type=lambda s: [int(float(v)) for v in s.split(",")],
+                    help="keep only these sizes of the scale's grid, e.g. 1e5,1e6")
+    ap.add_argument("--dists", type=lambda s: s.split(","),
+                    help="keep only these distributions, comma separated")
     ap.add_argument("--force", action="store_true", help="measure finished cells again")
     ap.add_argument("--out", default="results")
     ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     ap.add_argument("--timeout", type=float, help="seconds per cell (default by scale)")
+    for flag, kwargs in options:
+        ap.add_argument(flag, **kwargs)
     args = ap.parse_args(argv)
     cells = grid(args.scale, args.threads)
     if args.peers:
         cells = [c for c in cells if c.peer in args.peers]
+    if args.sizes:
+        cells = [c for c in cells if c.n in args.sizes]
+    if args.dists:
+        cells = [c for c in cells if c.distribution in args.dists]
     if not args.plot_only:
-        runner.run(name, cells, repeats=args.repeats, out=args.out, force=args.force,
+        if setup:
+            setup(args, Path(args.out) / name)
+        runner.run(name, cells, repeats=args.repeats, rounds=args.rounds, out=args.out,
+                   force=args.force,
                    timeout=args.timeout or TIMEOUTS[args.scale],
                    progress=not args.quiet, command=" ".join(["python -m experiments." + name]
                                                               + (argv or sys.argv[1:])))

@@ -22,7 +22,7 @@ import platform
 import subprocess
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +32,7 @@ import generators
 
 NOMINAL_HZ = 3.0e9  # paper 1 normalises cycle counts to 3 GHz
 FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed", "order", "count",
-          "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz", "mpts_per_s",
+          "round", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz", "mpts_per_s",
           "peak_bytes", "bytes_per_point", "version", "counts"]
 
 
@@ -46,14 +46,19 @@ class Cell:
     seed: int = 0
     order: str = ""
     count: bool = False
+    round: int = 0  # the grid is measured `rounds` times, round after round
 
     @property
     def key(self):
-        return json.dumps(asdict(self), sort_keys=True)
+        d = asdict(self)
+        if not d["round"]:
+            del d["round"]  # keys of single-round sweeps predate rounds: they still resume
+        return json.dumps(d, sort_keys=True)
 
     def label(self):
         extra = f" {self.order}" if self.order else ""
-        return f"{self.peer} {self.distribution} n={self.n:,}{extra}{' (counts)' if self.count else ''}"
+        return (f"{self.peer} {self.distribution} n={self.n:,}{extra}"
+                f"{' (counts)' if self.count else ''}{f' round {self.round + 1}' if self.round else ''}")
 
 
 def machine_info():
@@ -170,9 +175,19 @@ def estimated_bytes(cell):
     return cell.n * per_point
 
 
-def run(experiment, cells, *, repeats=3, out="results", force=False, timeout=1800.0,
+def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, timeout=1800.0,
         progress=True, command=None):
-    """Measure every cell not already done; return the results directory."""
+    """Measure every cell not already done; return the results directory.
+
+    With ``rounds`` > 1 the whole grid is measured that many times, round
+    after round, each cell in a fresh child with ``repeats`` runs.  On a
+    shared machine whose speed drifts over minutes, this spreads every peer's
+    runs over the same stretch of time, so the pooled medians of peers are
+    compared under the same conditions rather than under whatever held while
+    each peer's single cell ran.
+    """
+    cells = [replace(c, round=r) for r in range(max(rounds, 1)) for c in cells
+             if r == 0 or not c.count]  # counts are deterministic: one round
     out_dir = Path(out) / experiment
     out_dir.mkdir(parents=True, exist_ok=True)
     log = out_dir / "cells.jsonl"
@@ -188,7 +203,7 @@ def run(experiment, cells, *, repeats=3, out="results", force=False, timeout=180
                 continue  # a line cut by a crash: that cell is measured again
     todo = [c for c in cells if c.key not in done]
     meta = dict(experiment=experiment, command=command or " ".join(sys.argv),
-                date=time.strftime("%Y-%m-%d %H:%M:%S %z"), repeats=repeats,
+                date=time.strftime("%Y-%m-%d %H:%M:%S %z"), repeats=repeats, rounds=rounds,
                 cells=len(cells), resumed_cells=len(cells) - len(todo), **machine_info())
     _atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = None
@@ -229,7 +244,8 @@ def load(out_dir):
     """The tidy results as a list of dicts with numeric fields converted."""
     rows = list(csv.DictReader(open(Path(out_dir) / "results.csv")))
     for r in rows:
-        for k in ("n", "threads", "seed", "repeat"):
+        r.setdefault("round", "0")
+        for k in ("n", "threads", "seed", "round", "repeat"):
             r[k] = int(r[k]) if r[k] != "" else None
         for k in ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes",
                   "bytes_per_point"):
@@ -240,7 +256,8 @@ def load(out_dir):
 
 
 def summarize(rows, by=("peer", "distribution", "n", "order", "count")):
-    """{key: {"min", "median", "status", "counts"}} over the repeats of each cell."""
+    """{key: {"min", "median", "status", "counts"}} over the repeats of each
+    cell, pooled over rounds."""
     groups = {}
     for r in rows:
         groups.setdefault(tuple(r[k] for k in by), []).append(r)

@@ -7,16 +7,23 @@ from experiments import bench_dc, runner
 from experiments.runner import Cell
 
 
-def test_bench_dc_tiny_run(tmp_path):
-    out = tmp_path / "bench"
-    assert bench_dc.main(["--scale", "small", "--sizes", "3000", "--repeats", "1",
-                          "--peers", "lfqt-dc,triangle", "--dists", "uniform,grid",
-                          "--out", str(out), "--no-compile-time"]) == 0
-    rows = list(csv.DictReader(open(out / "bench_dc.csv")))
-    assert {(r["distribution"], r["peer"]) for r in rows} == {
-        ("uniform", "lfqt-dc"), ("uniform", "triangle"), ("grid", "lfqt-dc"), ("grid", "triangle")}
-    assert all(r["status"] == "ok" and float(r["median_s"]) > 0 for r in rows)
-    assert (out / "bench_dc.meta.json").exists()
+def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
+    assert bench_dc.main(["--scale", "smoke", "--repeats", "1", "--rounds", "2",
+                          "--peers", "lfqt-dc,triangle", "--out", str(tmp_path), "--quiet",
+                          "--no-compile-time"]) == 0
+    rows = runner.load(tmp_path / "bench_dc")
+    assert [(r["round"], r["peer"]) for r in rows] == [
+        (0, "lfqt-dc"), (0, "triangle"), (1, "lfqt-dc"), (1, "triangle")]
+    assert all(r["status"] == "ok" and r["seconds"] > 0 for r in rows)
+    log = [json.loads(l)["cell"]["round"] for l in open(tmp_path / "bench_dc" / "cells.jsonl")]
+    assert log == [0, 0, 1, 1]  # round after round: peers interleaved in time
+    assert (tmp_path / "figures" / "bench_dc.png").stat().st_size > 20000
+    text = capsys.readouterr().out
+    tri = next(l for l in text.splitlines() if " triangle " in l)
+    medians = {r["peer"]: sorted(x["seconds"] for x in rows if x["peer"] == r["peer"])
+               for r in rows}
+    expect = (sum(medians["triangle"]) / 2) / (sum(medians["lfqt-dc"]) / 2)
+    assert f"{expect:.2f}x" in tri
 
 
 def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
@@ -79,3 +86,13 @@ def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, c
         (peer, dist) for _, dist, ours, cgal in bench_insert.SETUPS for peer in [ours] + cgal}
     assert (tmp_path / "figures" / "bench_insert.png").stat().st_size > 20000
     assert "lfqt time / peer time" in capsys.readouterr().out
+
+
+def test_rounds_repeat_timed_cells_but_not_deterministic_counts(tmp_path):
+    cells = [Cell("lfqt-dc", "uniform", 1000), Cell("lfqt-insert-kdtree", "cube", 800, count=True)]
+    rows = runner.load(runner.run("r", cells, repeats=1, rounds=3, out=tmp_path, progress=False))
+    assert sorted(r["round"] for r in rows if not r["count"]) == [0, 1, 2]
+    assert [r["round"] for r in rows if r["count"]] == [0]
+    # round 0 keeps the key format of sweeps from before rounds existed: they resume
+    assert "round" not in json.loads(Cell("lfqt-dc", "uniform", 1000).key)
+    assert "round" in json.loads(Cell("lfqt-dc", "uniform", 1000, round=1).key)
