@@ -13,6 +13,19 @@ def test_accepts_lists_and_integer_arrays():
     triangulate_verified(np.array([[0, 0], [2 ** 60, 0], [0, 1]], dtype=np.int64))  # exact
 
 
+@pytest.mark.parametrize("layout", ["fortran", "every_other_row", "wider_array", "float32_strided"])
+def test_non_contiguous_input_gives_the_contiguous_result(layout, rng):
+    pts = rng.random((3000, 2))
+    view = {"fortran": lambda: np.asfortranarray(pts),
+            "every_other_row": lambda: pts[::2],
+            "wider_array": lambda: np.c_[pts, pts[:, :1]][:, :2],
+            "float32_strided": lambda: pts.astype(np.float32)[::3]}[layout]()
+    assert not view.flags["C_CONTIGUOUS"]
+    tri = triangulate_verified(view)
+    assert triangle_set(tri.simplices) == triangle_set(
+        triangulate_verified(np.ascontiguousarray(view)).simplices)
+
+
 def test_rejects_integers_that_are_not_exact_in_float64():
     with pytest.raises(ValueError, match="not exactly representable.*first is row 1"):
         lfqt.triangulate(np.array([[0, 0], [2 ** 53 + 1, 0], [0, 1]], dtype=np.int64))
