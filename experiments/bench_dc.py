@@ -117,9 +117,10 @@ def plot(rows, out, scale):
             ratios = [(n, r) for n, r in ratios if r == r]
             if peer != REFERENCE and ratios:
                 bottom.plot(*zip(*ratios), "o-", color=colors[peer], label=peer)
-                for n, r in ratios:
+                for n, r in ratios:  # staggered per peer: equal ratios stay readable
                     bottom.annotate(f"{r:.1f}x", (n, r), textcoords="offset points",
-                                    xytext=(4, 4), fontsize=7, color=colors[peer])
+                                    xytext=(5, 9 * PEERS.index(peer) - 14), fontsize=7,
+                                    color=colors[peer])
         for peer, target in TARGETS.items():
             if peer in peers:
                 bottom.axhline(target, ls=":", color=colors[peer], lw=1)
