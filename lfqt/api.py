@@ -62,7 +62,7 @@ def _coordinates(points, workers=None):
     """Validate (n, 2) input; return (x, y, scale exponent).  x and y are
     float32 or float64 views of one array holding exactly the input values
     (no copies: a point's x and y then share a cache line in the Morton-order
-    gather); the exponent is _scale_exponent's, from the same scan."""
+    gather); the exponent is _exponent_for's, from the same scan."""
     arr = _as_exact_float(points, (2,))
     x, y = arr[:, 0], arr[:, 1]
     bad, first, big, small = _scan_all(x, y, workers)
@@ -104,14 +104,10 @@ def _scan(x, y, lo, hi):
     return bad, first, big, small
 
 
-def _scale_exponent(x, y, workers=None):
-    """Power of two that brings all coordinates into the exactness window, or
-    ValueError when their magnitudes span too many binades."""
-    _, _, big, small = _scan_all(x, y, workers)
-    return _exponent_for(x.dtype, big, small)
-
-
 def _exponent_for(dtype, big, small):
+    """Power of two that brings coordinates with nonzero magnitudes in
+    [small, big] into the exactness window, or ValueError when they span too
+    many binades."""
     if dtype == np.float32:
         return 0  # float32's whole range already fits the window
     return _window_exponent(big, small, MAX_EXP, MIN_ULP_EXP)

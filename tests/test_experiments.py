@@ -1,5 +1,4 @@
 """The runner and the experiments, end to end at a tiny scale."""
-import csv
 import json
 
 from experiments import all as all_experiments

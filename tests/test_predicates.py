@@ -8,7 +8,7 @@ from numba import njit
 
 from lfqt import dc, morton, predicates as P
 from lfqt.predicates import binade
-from lfqt.api import _exact_coordinates, _scale_exponent
+from lfqt.api import _coordinates, _exact_coordinates
 
 # Magnitudes within one exactness window (the API refuses wider spans).
 finite = st.floats(min_value=-1e30, max_value=1e30).filter(lambda v: v == 0 or abs(v) > 1e-90)
@@ -183,7 +183,7 @@ def test_level_bounds_are_sound(sample):
     assume(level >= 0)
     bits, ebits, mbits, emin = (32, 8, 23, -126) if dtype == np.float32 else (64, 11, 52, -1022)
     try:
-        s = _scale_exponent(x.astype(dtype), y.astype(dtype))
+        s = _coordinates(np.c_[x, y].astype(dtype))[2]
     except ValueError:
         assume(False)
     xs, ys = x * 2.0 ** s, y * 2.0 ** s
