@@ -13,7 +13,8 @@ import numpy as np
 
 import generators
 import lfqt
-from lfqt import morton, parallel, radix
+from lfqt import morton, radix
+from lfqt.workers import Workers
 
 
 class TimeTriangulate:
@@ -35,12 +36,11 @@ class TimeTriangulate:
         lfqt.triangulate(self.points)
 
     def track_incircle_calls_per_point(self, dist, n):
-        return lfqt.triangulate(self.points, counters=True).stats["predicates"]["incircle"] / n
+        return lfqt.triangulate(self.points).stats["per_point"]["incircle_tests"]
     track_incircle_calls_per_point.unit = "count"
 
     def track_undecided_incircle(self, dist, n):
-        return lfqt.triangulate(self.points, counters=True).stats["predicates"][
-            "incircle_stage1_undecided"]
+        return lfqt.triangulate(self.points).stats["counts"]["incircle_stage1_undecided"]
     track_undecided_incircle.unit = "count"
 
 
@@ -76,7 +76,7 @@ class TimeRadix:
         rng = np.random.default_rng(0)
         x, y = rng.random(n), rng.random(n)
         self.hi, self.lo = morton.morton_keys64(x, y)
-        self.workers = parallel.Workers(1)
+        self.workers = Workers(1)
         radix.sort_keys(self.hi[:100].copy(), np.arange(100, dtype=np.int32), self.workers)
 
     def time_radix_sort_128bit_high_word(self, n):

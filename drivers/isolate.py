@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from lfqt.clock import read_cycles
+
 
 @dataclass
 class Measurement:
@@ -54,7 +56,6 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
     if warmup:
         peer.run()
     seconds, cycles, own_memory = [], [], []
-    from lfqt.insert import read_cycles
     for _ in range(repeats):
         c0 = read_cycles()
         t0 = time.perf_counter()

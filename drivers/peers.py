@@ -51,7 +51,7 @@ class LfqtDC(Peer):
 
     def result(self):
         st = self.tri.stats
-        counts = dict(st.get("predicates", {}))
+        counts = dict(st.get("counts", {}))
         counts.update({f"seconds_{k}": v for k, v in st["seconds"].items()})
         return Result(self.tri.simplices, counts)
 

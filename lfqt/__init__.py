@@ -1,6 +1,15 @@
-"""lfqt: exact Delaunay triangulation on the linear floating-point quad-tree."""
-from .api import Delaunay, DegenerateInputError, insert, triangulate
-from .mesh import Triangulation, VerifyReport, verify
+"""lfqt: exact Delaunay triangulation on the linear floating-point quad-tree.
+
+    triangulate   2D divide and conquer on the LFQT (lfqt.dc)
+    insert        2D/3D incremental insertion in a given order (lfqt.incremental)
+    verify        exact proof that a mesh is the Delaunay triangulation (lfqt.verification)
+    Delaunay      the scipy.spatial.Delaunay interface (lfqt.delaunay)
+"""
+from .dc import triangulate
+from .delaunay import Delaunay
+from .incremental import insert
+from .triangulation import DegenerateInputError, Triangulation
+from .verification import VerifyReport, verify
 
 __all__ = ["triangulate", "insert", "Delaunay", "DegenerateInputError", "verify", "Triangulation",
            "VerifyReport"]

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from numba import njit
 
-from lfqt import morton, parallel, predicates as P, radix
+from lfqt import morton, predicates as P, radix
+from lfqt.workers import Workers
 
 N = 100_000
 
@@ -65,6 +66,6 @@ def test_morton_keys_128bit(benchmark, pts):
 
 def test_radix_sort_64bit(benchmark, pts):
     keys = morton.morton_keys32(pts[:, 0].astype(np.float32), pts[:, 1].astype(np.float32))
-    w = parallel.Workers(1)
+    w = Workers(1)
     radix.sort_keys(keys[:10].copy(), np.arange(10, dtype=np.int32), w)
     benchmark(lambda: radix.sort_keys(keys.copy(), np.arange(N, dtype=np.int32), w))

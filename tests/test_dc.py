@@ -126,14 +126,14 @@ def test_filters_agree_and_level_filter_leaves_fewer_undecided():
     lev = triangulate_verified(pts, counters=True, filter="level")
     con = triangulate_verified(pts, counters=True, filter="constant")
     assert triangle_set(lev.simplices) == triangle_set(con.simplices)
-    pl, pc = lev.stats["predicates"], con.stats["predicates"]
-    assert pl["orient"] == pc["orient"] and pl["incircle"] == pc["incircle"]
+    pl, pc = lev.stats["counts"], con.stats["counts"]
+    assert pl["orientation_tests"] == pc["orientation_tests"] and pl["incircle_tests"] == pc["incircle_tests"]
     assert pl["incircle_stage1_undecided"] <= pc["incircle_stage1_undecided"]
 
 
 def test_grid_cocircularity_goes_to_stage_two():
     tri = triangulate_verified(grid(64), counters=True)
-    p = tri.stats["predicates"]
+    p = tri.stats["counts"]
     assert p["incircle_stage1_undecided"] > 0
     assert p["incircle_stage2_undecided"] == 0  # integer differences are exact: stage B decides
 
@@ -190,7 +190,7 @@ def algorithm1_ops(keys, lo, hi):
 @given(st.lists(st.integers(0, 2 ** 128 - 1) | st.integers(0, 40), min_size=1, max_size=80),
        st.data())
 def test_subdivision_sweep_equals_algorithm_1(values, data):
-    from lfqt import dc
+    from lfqt.dc import subdivide
     keys = sorted(values)
     n = len(keys)
     lo = data.draw(st.integers(0, n - 1))
@@ -199,10 +199,10 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     klo = np.array([k & (2 ** 64 - 1) for k in keys], dtype=np.uint64)
     ops = np.zeros(2 * n + 3, dtype=np.int64)
     rep = np.full(n, -5, dtype=np.int32)
-    end = dc.subdivide_lfqt(khi, klo, True, lo, hi, ops, 3, rep)
+    end = subdivide.subdivide_lfqt(khi, klo, True, lo, hi, ops, 3, rep)
     expect_ops, expect_rep = algorithm1_ops(keys, lo, hi)
     assert ops[3:end].tolist() == expect_ops
     assert rep[lo:hi].tolist() == expect_rep
     if all(k < 2 ** 64 for k in keys):  # 64-bit keys (float32 input)
-        end64 = dc.subdivide_lfqt(khi[:0], klo, False, lo, hi, ops, 0, rep)
+        end64 = subdivide.subdivide_lfqt(khi[:0], klo, False, lo, hi, ops, 0, rep)
         assert ops[:end64].tolist() == expect_ops

@@ -8,9 +8,10 @@ import scipy.spatial
 from hypothesis import given, settings, strategies as st
 
 import lfqt
-from lfqt.insert import K_CONFLICTS, finite_cells, insert_all
+from lfqt.incremental.kernel import finite_cells, insert_all
 from lfqt import orders, predicates as P
-from lfqt.api import _exact_points3
+from lfqt.predicates.counters import CONFLICTS
+from lfqt._input import exact_points3
 from conftest import insert_verified, without_cell
 
 
@@ -92,7 +93,7 @@ def test_explicit_order_and_bad_order():
 
 def test_growth_paths_give_the_same_mesh():
     pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]  # centre: a huge cavity
-    P3 = _exact_points3(pts)
+    P3 = exact_points3(pts)
     perm = np.arange(len(pts))
     hint = np.full(len(pts), -1)
     small = insert_all(P3, 3, perm, hint, 16.0, 8)  # tiny cell storage, grows many times
@@ -101,7 +102,7 @@ def test_growth_paths_give_the_same_mesh():
     s_small, _ = finite_cells(small[0], small[1], small[2], ids)
     s_big, _ = finite_cells(big[0], big[1], big[2], ids)
     assert cells(s_small) == cells(s_big)
-    assert big[5][K_CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
+    assert big[5][CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
     insert_verified(pts, order="input")
 
 

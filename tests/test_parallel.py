@@ -7,7 +7,8 @@ from hypothesis import given, settings, strategies as st
 import generators
 import lfqt
 from conftest import triangle_set, triangulate_verified
-from lfqt import dc, parallel
+from lfqt.dc import merge
+from lfqt.workers import Workers
 
 THREADS = [2, 3, 4, 7]
 
@@ -60,12 +61,12 @@ def test_fig5_phases_are_reported():
     assert ph["merge_lower"] > 0 and ph["merge_top"] > 0 and tri.stats["bins"] >= 16
     serial = lfqt.triangulate(np.random.default_rng(0).random((300000, 2)), counters=True)
     # same merges, so the same predicate calls in total
-    assert tri.stats["predicates"]["orient"] == serial.stats["predicates"]["orient"]
+    assert tri.stats["counts"]["orientation_tests"] == serial.stats["counts"]["orientation_tests"]
 
 
 def test_worker_errors_surface_without_hanging(monkeypatch):
     calls = {"n": 0}
-    real = dc.run_ops
+    real = merge.run_ops
 
     def flaky(*args):
         calls["n"] += 1
@@ -73,7 +74,7 @@ def test_worker_errors_surface_without_hanging(monkeypatch):
             raise MemoryError("injected")
         return real(*args)
 
-    monkeypatch.setattr(dc, "run_ops", flaky)
+    monkeypatch.setattr(merge, "run_ops", flaky)
     pts = np.random.default_rng(0).random((100000, 2))
     for schedule in ("tasks", "levels"):
         calls["n"] = 0
@@ -82,7 +83,7 @@ def test_worker_errors_surface_without_hanging(monkeypatch):
 
 
 def test_workers_chunking_covers_the_range():
-    with parallel.Workers(3) as w:
+    with Workers(3) as w:
         for n in (0, 1, 5, 10 ** 6 + 7):
             chunks = w.chunks(n)
             assert chunks[0][0] == 0 and chunks[-1][1] == n

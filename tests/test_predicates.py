@@ -6,9 +6,10 @@ import pytest
 from hypothesis import assume, given, strategies as st
 from numba import njit
 
-from lfqt import dc, morton, predicates as P
+from lfqt import morton, predicates as P
+from lfqt.predicates import counters as C
 from lfqt.predicates import binade
-from lfqt.api import _coordinates, _exact_coordinates
+from lfqt._input import coordinates2d, exact_coordinates2d
 
 # Magnitudes within one exactness window (the API refuses wider spans).
 finite = st.floats(min_value=-1e30, max_value=1e30).filter(lambda v: v == 0 or abs(v) > 1e-90)
@@ -45,7 +46,7 @@ def in_window(*pts):
     exact only inside that window); signs are invariant under the rescale.
     Sets the API refuses (magnitudes too far apart) are skipped."""
     try:
-        xs, ys = _exact_coordinates(np.array(pts, dtype=np.float64))
+        xs, ys = exact_coordinates2d(np.array(pts, dtype=np.float64))
     except ValueError:
         assume(False)
     return [(float(x), float(y)) for x, y in zip(xs, ys)]
@@ -132,14 +133,14 @@ def test_integer_cocircular_decided_exactly():
     cnt = P.new_counters()
     v = P.incircle(0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, P.ICC_A, cnt)
     assert v == 0.0
-    assert cnt[P.C_INCIRCLE_S1] == 1 and cnt[P.C_INCIRCLE_S2] == 0
+    assert cnt[C.INCIRCLE_S1] == 1 and cnt[C.INCIRCLE_S2] == 0
 
 
 def test_counters_count_calls_and_undecided():
     cnt = P.new_counters()
     P.orient2d(0.0, 0.0, 1.0, 1.0, 2.0, 2.0, P.CCW_A, cnt)
     P.orient2d(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, P.CCW_A, cnt)
-    assert cnt[P.C_ORIENT] == 2 and cnt[P.C_ORIENT_S1] == 1
+    assert cnt[C.ORIENT] == 2 and cnt[C.ORIENT_S1] == 1
 
 
 def _level_of(points, dtype):
@@ -183,7 +184,7 @@ def test_level_bounds_are_sound(sample):
     assume(level >= 0)
     bits, ebits, mbits, emin = (32, 8, 23, -126) if dtype == np.float32 else (64, 11, 52, -1022)
     try:
-        s = _coordinates(np.c_[x, y].astype(dtype))[2]
+        s = coordinates2d(np.c_[x, y].astype(dtype))[2]
     except ValueError:
         assume(False)
     xs, ys = x * 2.0 ** s, y * 2.0 ** s

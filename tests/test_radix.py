@@ -2,7 +2,7 @@ import numpy as np
 from hypothesis import given, strategies as st
 
 from lfqt import radix
-from lfqt.parallel import Workers
+from lfqt.workers import Workers
 
 WORKERS = [Workers(1), Workers(3)]
 

@@ -19,43 +19,12 @@ merge and every slot id, depends only on the keys.
 """
 import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from . import dc
-from .predicates import N_COUNTERS
-
-MIN_CHUNK = 1 << 16  # below this a chunk costs more to schedule than to run
-
-
-class Workers:
-    """A thread pool for nogil kernels over index ranges.  With one thread
-    everything runs inline; ``threads`` may exceed the core count."""
-
-    def __init__(self, threads):
-        self.threads = max(1, int(threads))
-        self.pool = ThreadPoolExecutor(self.threads, thread_name_prefix="lfqt") \
-            if self.threads > 1 else None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        if self.pool:
-            self.pool.shutdown(wait=True)
-
-    def chunks(self, n):
-        k = max(1, min(self.threads, n // MIN_CHUNK))
-        cuts = [n * i // k for i in range(k + 1)]
-        return list(zip(cuts[:-1], cuts[1:]))
-
-    def map(self, chunks, fn):
-        """[fn(c, lo, hi) for each chunk c = (lo, hi)], in parallel."""
-        if self.pool is None or len(chunks) == 1:
-            return [fn(c, lo, hi) for c, (lo, hi) in enumerate(chunks)]
-        return list(self.pool.map(lambda a: fn(a[0], *a[1]), enumerate(chunks)))
-
+from ..predicates.counters import new_counters
+from .layout import PART
+from .subdivide import subdivide_top
 
 # Bins per thread.  One bin per thread leaves threads idle when the data-
 # dependent LFQT splits are unbalanced; many bins per thread push work into
@@ -68,8 +37,8 @@ def bin_size_for(n, threads):
 
 
 class _Tree:
-    """The upper tree of nodes (lo, hi, split, bit, left, right) with the
-    state of each task."""
+    """The upper tree of nodes (lo, hi, split, bit, left, right), with each
+    node's finished partition row."""
 
     def __init__(self, nodes):
         self.nodes = nodes
@@ -79,18 +48,16 @@ class _Tree:
             if nodes[k, 2] >= 0:
                 self.parent[nodes[k, 4]] = k
                 self.parent[nodes[k, 5]] = k
-        self.ext = np.empty((m, 4), dtype=np.int64)
-        self.single = np.empty(m, dtype=np.bool_)
+        self.parts = np.empty((m, PART), dtype=np.int64)
         self.bins = [k for k in range(m) if nodes[k, 2] < 0]
 
 
-def build(khi, klo, wide, n, P, T, ghost_out, rep, ops, fmt, level_filter, workers,
-          schedule="tasks"):
-    """Triangulate sorted points on ``workers``.  Returns (root_ext (4,),
-    root_single, counters, stats)."""
+def build(state, workers, schedule="levels"):
+    """Triangulate the sorted points of ``state`` (lfqt.dc.state.State) on
+    ``workers``.  Returns (root partition row, counts, stats)."""
     threads = workers.threads
     t0 = time.perf_counter()
-    nodes = dc.subdivide_top(khi, klo, wide, n, bin_size_for(n, threads))
+    nodes = subdivide_top(state.khi, state.klo, state.wide, state.n, bin_size_for(state.n, threads))
     tree = _Tree(nodes)
     t_top = time.perf_counter() - t0
     lock = threading.Lock()
@@ -103,25 +70,21 @@ def build(khi, klo, wide, n, P, T, ghost_out, rep, ops, fmt, level_filter, worke
 
     def run_bin(k):
         lo, hi = int(nodes[k, 0]), int(nodes[k, 1])
-        cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+        cnt = new_counters()
         a = time.perf_counter()
-        end = dc.subdivide_lfqt(khi, klo, wide, lo, hi, ops, 2 * lo, rep)
+        end = state.subdivide(lo, hi, 2 * lo)
         b = time.perf_counter()
-        dc.run_ops(ops, 2 * lo, end, P, T, ghost_out, fmt, level_filter, cnt,
-                   tree.ext, tree.single, 0, tree.ext[k:k + 1], tree.single[k:k + 1])
+        state.merge(2 * lo, end, cnt, tree.parts, 0, tree.parts[k:k + 1])
         add_time("subdivide_lower", b - a)
         add_time("merge_lower", time.perf_counter() - b)
         counters.append(cnt)
 
     def run_merge(k):
         left, right = nodes[k, 4], nodes[k, 5]
-        cnt = np.zeros(N_COUNTERS, dtype=np.int64)
-        in_ext = np.stack((tree.ext[left], tree.ext[right]))
-        in_single = np.array([tree.single[left], tree.single[right]])
+        cnt = new_counters()
         op = np.array([(nodes[k, 2] << 8) | nodes[k, 3]], dtype=np.int64)
         a = time.perf_counter()
-        dc.run_ops(op, 0, 1, P, T, ghost_out, fmt, level_filter, cnt, in_ext, in_single, 2,
-                   tree.ext[k:k + 1], tree.single[k:k + 1])
+        state.merge(0, 1, cnt, tree.parts[[left, right]], 2, tree.parts[k:k + 1], ops=op)
         add_time("merge_top", time.perf_counter() - a)
         counters.append(cnt)
 
@@ -135,11 +98,10 @@ def build(khi, klo, wide, n, P, T, ghost_out, rep, ops, fmt, level_filter, worke
     else:
         raise ValueError(f"schedule must be 'tasks' or 'levels', got {schedule!r}")
     wall = time.perf_counter() - t1
-    root = len(nodes) - 1
-    total = np.sum(counters, axis=0) if counters else np.zeros(N_COUNTERS, dtype=np.int64)
+    total = np.sum(counters, axis=0) if counters else new_counters()
     stats = {"subdivide_top": t_top, "parallel_wall": wall, "bins": len(tree.bins),
              "thread_seconds": thread_seconds}
-    return tree.ext[root], bool(tree.single[root]), total, stats
+    return tree.parts[len(nodes) - 1], total, stats
 
 
 def _run_tasks(tree, pool, run_bin, run_merge):

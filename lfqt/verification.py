@@ -1,4 +1,4 @@
-"""Result objects and exact validation of triangulations.
+"""Exact validation of triangulations, whoever built them.
 
 ``verify`` proves a 2D mesh is *the* Delaunay triangulation of its points with
 exact predicates only:
@@ -14,44 +14,15 @@ exact predicates only:
   triangulation of the convex hull means globally Delaunay;
 * every distinct input point is a vertex, and no duplicate is.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from .predicates import (CCW_A, ICC_A, ISP_A, N_COUNTERS, O3D_A, incircle, insphere_staged,
-                         orient2d, orient3d_staged)
-
-
-@dataclass
-class Triangulation:
-    """A Delaunay triangulation in flat arrays (scipy's conventions).
-
-    points: the input as given.  simplices: (m, 3) counter-clockwise rows of
-    input indices, or (m, 4) right-handed tetrahedra from ``lfqt.insert`` in
-    3D.  neighbors: same shape, neighbour i opposite vertex i, -1 on the
-    hull.  hull: boundary vertex loop, counter-clockwise (3D: (k, 3) outward
-    facets).  duplicate_of:
-    per input row, the row that represents it.  degenerate: True when there
-    are fewer than 3 distinct points or all are collinear (then simplices is
-    empty and hull holds the extreme points); reason says which.
-    """
-    points: np.ndarray
-    simplices: np.ndarray
-    neighbors: np.ndarray
-    hull: np.ndarray
-    duplicate_of: np.ndarray
-    stats: dict = field(default_factory=dict)
-    degenerate: bool = False
-    reason: str = ""
-
-    @property
-    def n_distinct(self):
-        return int(np.count_nonzero(self.duplicate_of == np.arange(len(self.duplicate_of))))
-
-    def __repr__(self):
-        return (f"Triangulation(points={len(self.points)}, simplices={len(self.simplices)}, "
-                f"hull={len(self.hull)}, degenerate={self.degenerate})")
+from ._input import exact_coordinates2d, exact_points3
+from .predicates.counters import N_PREDICATE, incircle, orient2d
+from .predicates.planar import CCW_A, ICC_A
+from .predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 
 
 @dataclass
@@ -88,7 +59,7 @@ def _check_mesh(xs, ys, simplices, neighbors, n):
     boundary_not_single_loop, reflex_turns, winding, not_delaunay, first_bad_triangle,
     n_boundary, loop_start)."""
     m = simplices.shape[0]
-    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
     bad_orient = 0
     first_bad = -1
     for t in range(m):
@@ -196,7 +167,7 @@ def _check_mesh(xs, ys, simplices, neighbors, n):
 
 @njit(cache=True)
 def _all_collinear(xs, ys, ids, a, b):
-    cnt = np.zeros(N_COUNTERS, dtype=np.int64)
+    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
     for k in range(ids.shape[0]):
         i = ids[k]
         if orient2d(xs[a], ys[a], xs[b], ys[b], xs[i], ys[i], CCW_A, cnt) != 0.0:
@@ -405,10 +376,9 @@ def verify(points, tri):
     ``neighbors``, ``hull`` and optionally ``duplicate_of``), whoever built
     it.  Returns a :class:`VerifyReport`.
     """
-    from .api import _exact_coordinates, _exact_points3
     if np.asarray(points).ndim == 2 and np.asarray(points).shape[1] == 3:
-        return _verify_3d(_exact_points3(points), tri)
-    xs, ys = _exact_coordinates(points)
+        return _verify_3d(exact_points3(points), tri)
+    xs, ys = exact_coordinates2d(points)
     n = xs.shape[0]
     hull = np.asarray(tri.hull, dtype=np.int64)
     start = _start(np.column_stack((xs, ys)), tri, "triangles")

@@ -1,0 +1,159 @@
+"""Input validation and exact rescaling, shared by both pipelines, verify and
+Delaunay (stumpy's core.py: no public module imports another for a helper).
+
+Input is accepted as float32, float64, float16 or integers that float64 holds
+exactly, and is never rounded.  Coordinates are then rescaled by an exact
+power of two into the *exactness window* of their dimension: every nonzero
+|coordinate| in [2**(MIN_ULP_EXP + 52), 2**MAX_EXP), so that no product of
+the predicates' degree (4 for in-circle, 5 for in-sphere) overflows or leaves
+the normal range, which expansion arithmetic needs to be exact.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .workers import Workers
+
+MAX_EXP = 248
+MIN_ULP_EXP = -240
+MAX_EXP_3D = 198
+MIN_ULP_EXP_3D = -192
+FORMATS = {  # coord_bits, exp_bits, mant_bits, smallest normal exponent
+    np.dtype(np.float32): (32, 8, 23, -126),
+    np.dtype(np.float64): (64, 11, 52, -1022),
+}
+
+
+def as_exact_float(points, dims):
+    """Validate an (n, d) array-like with d in ``dims``; return it as float32
+    or float64 holding exactly the input values."""
+    arr = np.asarray(points)
+    if arr.dtype == object or arr.dtype.kind not in "fiu":
+        raise TypeError(f"points must be real numbers, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] not in dims:
+        want = " or ".join(f"(n, {d})" for d in dims)
+        raise ValueError(f"points must have shape {want}, got {arr.shape}")
+    if arr.dtype.kind in "iu":
+        big = (arr > 2 ** 53) | (arr < -2 ** 53)
+        inexact = np.zeros(len(arr), dtype=bool)
+        for r, c in zip(*np.nonzero(big)):
+            inexact[r] |= int(float(arr[r, c])) != int(arr[r, c])
+        if inexact.any():
+            rows = np.flatnonzero(inexact)
+            raise ValueError(f"{len(rows)} integer rows are not exactly representable in float64 "
+                             f"(beyond 2**53); the first is row {rows[0]}")
+        return arr.astype(np.float64)
+    if arr.dtype == np.float16:
+        return arr.astype(np.float32)
+    if arr.dtype not in (np.float32, np.float64):
+        wide = arr
+        arr = arr.astype(np.float64)
+        if not np.array_equal(arr, wide, equal_nan=True):
+            raise ValueError(f"{wide.dtype} points are not exactly representable as float64")
+    return arr
+
+
+def coordinates2d(points, workers=None):
+    """Validate (n, 2) input; return (x, y, scale exponent).  x and y are
+    float32 or float64 views of one array holding exactly the input values
+    (no copies: a point's x and y then share a cache line in the Morton-order
+    gather); the exponent is exponent_for's, from the same scan."""
+    arr = as_exact_float(points, (2,))
+    x, y = arr[:, 0], arr[:, 1]
+    bad, first, big, small = _scan_all(x, y, workers)
+    if bad:
+        raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
+    return x, y, exponent_for(x.dtype, big, small)
+
+
+def _scan_all(x, y, workers=None):
+    """(rows with NaN/inf, first such row, max |v|, min nonzero |v|)."""
+    workers = workers or Workers(1)
+    parts = workers.map(workers.chunks(x.shape[0]), lambda c, lo, hi: _scan(x, y, lo, hi))
+    firsts = [p[1] for p in parts if p[0]]
+    return (sum(p[0] for p in parts), firsts[0] if firsts else -1,
+            max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf))
+
+
+@njit(cache=True, nogil=True)
+def _scan(x, y, lo, hi):
+    """One pass over [lo, hi): (rows with NaN/inf, first such row, max |v|,
+    min nonzero |v|)."""
+    bad = 0
+    first = -1
+    big = 0.0
+    small = np.inf
+    for i in range(lo, hi):
+        a = abs(x[i])
+        b = abs(y[i])
+        if not (a < np.inf and b < np.inf):
+            bad += 1
+            if first < 0:
+                first = i
+            continue
+        big = max(big, a, b)
+        if a > 0.0:
+            small = min(small, a)
+        if b > 0.0:
+            small = min(small, b)
+    return bad, first, big, small
+
+
+def exponent_for(dtype, big, small):
+    """Power of two that brings coordinates with nonzero magnitudes in
+    [small, big] into the exactness window, or ValueError when they span too
+    many binades."""
+    if dtype == np.float32:
+        return 0  # float32's whole range already fits the window
+    return window_exponent(big, small, MAX_EXP, MIN_ULP_EXP)
+
+
+def window_exponent(big, small, max_exp, min_ulp_exp):
+    """Power of two s with every nonzero magnitude in [small, big] mapped into
+    [2**(min_ulp_exp + 52), 2**max_exp)."""
+    if big == 0.0:
+        return 0
+    top = math.frexp(big)[1] - 1
+    bottom = max(math.frexp(small)[1] - 1, -1022)
+    lo = min_ulp_exp + 52 - bottom
+    hi = max_exp - 1 - top
+    if lo > hi:
+        span = max_exp - 1 - min_ulp_exp - 52
+        raise ValueError(
+            f"coordinate magnitudes span 2**{bottom} to 2**{top}, more than {span} binades; "
+            "exact predicates cannot represent every product without overflow or underflow. "
+            "Translate or split the data so that the smallest nonzero magnitude is closer to "
+            "the largest.")
+    return min(max(0, lo), hi)
+
+
+def exact_coordinates2d(points):
+    """float64 coordinates, rescaled by an exact power of two so that the
+    predicates are exact on them."""
+    x, y, s = coordinates2d(points)
+    return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
+
+
+def exact_points(points, dims):
+    """Validated (n, d) float64 coordinates rescaled by an exact power of two
+    into the exactness window of dimension d; returns (P, scale exponent)."""
+    arr = as_exact_float(points, dims)
+    finite = np.isfinite(arr).all(axis=1)
+    if not finite.all():
+        bad = np.flatnonzero(~finite)
+        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
+    P = np.array(arr, dtype=np.float64, order="C")
+    mags = np.abs(P[P != 0])
+    window = (MAX_EXP, MIN_ULP_EXP) if P.shape[1] == 2 else (MAX_EXP_3D, MIN_ULP_EXP_3D)
+    s = window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)), *window)
+    P *= 2.0 ** s
+    return P, s
+
+
+def exact_points3(points):
+    return exact_points(points, (3,))[0]
+
+
+def index_dtype(n):
+    return np.int32 if n < 2 ** 31 - 2 else np.int64

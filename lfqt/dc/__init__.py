@@ -1,0 +1,218 @@
+"""Dwyer-style divide and conquer on the LFQT (fqDel): the validated public
+wrapper ``triangulate`` and its phases, over the kernels of this package.
+
+    sort        Morton keys of the float bits, radix sort (lfqt.morton, lfqt.radix)
+    subdivide   Algorithm 1 as one sweep (lfqt.dc.subdivide)
+    merge       Guibas–Stolfi on ghost-wrapped triangles (lfqt.dc.merge)
+    parallel    bins and the upper tree's merges (lfqt.dc.bins)
+    output      real triangles in input indices (lfqt.dc.output)
+"""
+import os
+import time
+
+import numpy as np
+
+from .. import morton, radix
+from .._input import FORMATS, coordinates2d, index_dtype
+from ..predicates.counters import as_dict, new_counters, per_point
+from ..triangulation import Triangulation
+from ..workers import Workers
+from . import bins, output, subdivide
+from .layout import PART, SINGLE, UNUSED, XMAX, XMIN, Mesh
+from .state import State
+
+SUBDIVISIONS = ("lfqt", "alternating")
+FILTERS = ("level", "constant")
+SCHEDULES = ("levels", "tasks")
+
+
+def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter="level",
+                schedule="levels"):
+    """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        float32, float64 or integers (exact in float64).  float32 input gives
+        64-bit Morton keys, float64 input 128-bit keys; coordinates are never
+        rounded.
+    threads : int or None
+        Worker threads (None: all cores).  With more than one, the upper
+        quad-tree levels are cut into bins triangulated in parallel, then
+        merged upwards (fqDel 3.4).  The result does not depend on the thread
+        count.  The alternating ablation always runs on one thread.
+    subdivision : {"lfqt", "alternating"}
+        Split at the highest differing Morton bit, or Triangle's alternating
+        median cuts with the same merge and predicates (ablation).
+    counters : bool
+        Report ``stats["counts"]``: predicate calls and the calls each filter
+        stage left undecided (paper 1, Table 1), and ``stats["per_point"]``.
+        The kernels count anyway, so this is free.
+    filter : {"level", "constant"}
+        Stage-1 error bound: level-dependent (fqDel 2.4, LFQT only) or
+        Triangle's constant.
+    schedule : {"levels", "tasks"}
+        The upper merges run level by level with a barrier after each
+        (default, measured faster on our 2-core machines, see lfqt.dc.bins),
+        or each as soon as both of its children are done (the paper's
+        split-list).
+
+    Returns
+    -------
+    Triangulation
+    """
+    for name, value, allowed in (("subdivision", subdivision, SUBDIVISIONS),
+                                 ("filter", filter, FILTERS), ("schedule", schedule, SCHEDULES)):
+        if value not in allowed:
+            raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, "
+                             f"got {value!r}")
+    if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 1):
+        raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+    threads = int(threads if threads is not None else os.cpu_count() or 1)
+    with Workers(threads) as workers:
+        return _triangulate(points, workers, subdivision, counters, filter, schedule)
+
+
+def _sorted_points(x, y, scale_exp, workers, idx_dtype):
+    """Phase 1: Morton keys, radix sort, and the points gathered in Morton
+    order as float64 scaled by 2**scale_exp (exact).  Returns (khi, klo,
+    perm, P); khi is empty for 64-bit keys."""
+    n = x.shape[0]
+    chunks = workers.chunks(n)
+    perm = np.arange(n, dtype=idx_dtype)
+    if x.dtype == np.float64:
+        khi = np.empty(n, dtype=np.uint64)
+        klo_in = np.empty(n, dtype=np.uint64)
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(x, y, khi, klo_in, lo, hi))
+        khi, klo, perm = radix.sort_keys128(khi, klo_in, perm, workers)
+        del klo_in
+    else:
+        keys = np.empty(n, dtype=np.uint64)
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(x, y, keys, lo, hi))
+        klo, perm = radix.sort_keys(keys, perm, workers)
+        khi = klo[:0]
+        del keys
+    P = np.empty((n, 2), dtype=np.float64)
+    workers.map(chunks, lambda c, lo, hi: output.gather_points(x, y, perm, 2.0 ** scale_exp, P,
+                                                               lo, hi))
+    return khi, klo, perm, P
+
+
+def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):
+    """The arrays of the subdivision and merge (lfqt.dc.state.State) around
+    the sorted keys and points, with T filled with UNUSED."""
+    n = P.shape[0]
+    idx = perm.dtype
+    T = np.empty(6 * max(2 * (n - 1), 0), dtype=idx)
+    workers.map(workers.chunks(len(T)), lambda c, lo, hi: output.fill(T, UNUSED, lo, hi))
+    coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
+    fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
+    mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
+    return State(khi, klo, dtype == np.float64, mesh, np.empty(max(2 * n, 1), dtype=np.int64),
+                 np.empty(n, dtype=idx))
+
+
+def _serial(state, subdivision, counts):
+    """Phases 2 and 3 on one thread: (root partition row, phase seconds)."""
+    n = state.n
+    t0 = time.perf_counter()
+    nops = state.subdivide(0, n, 0) if n else 0
+    if subdivision == "alternating" and n:
+        ids = np.flatnonzero(state.rep == np.arange(n)).astype(np.int64)
+        nops = subdivide.subdivide_alternating(ids, state.mesh.P, state.ops)
+    t1 = time.perf_counter()
+    root = np.zeros((1, PART), dtype=np.int64)
+    if n:
+        state.merge(0, nops, counts, root, 0, root)
+    t2 = time.perf_counter()
+    return root[0], dict(subdivide_top=0.0, subdivide_lower=t1 - t0, merge_lower=t2 - t1,
+                         merge_top=0.0)
+
+
+def _triangulate(points, workers, subdivision, counters, filter, schedule):
+    t0 = time.perf_counter()
+    x, y, scale_exp = coordinates2d(points, workers)
+    n = x.shape[0]
+    t_validate = time.perf_counter()
+    khi, klo, perm, P = _sorted_points(x, y, scale_exp, workers, index_dtype(n))
+    dtype = x.dtype
+    del x, y  # P holds the coordinates from here on; peak memory matters at 10M+
+    t_sort = time.perf_counter()
+    level_filter = filter == "level" and subdivision == "lfqt"
+    state = _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers)
+    del P, khi, klo
+    counts = new_counters()
+    parallel_run = subdivision == "lfqt" and workers.threads > 1 and n > 1
+    t_alloc = time.perf_counter()
+    if parallel_run:
+        root, counts, pstats = bins.build(state, workers, schedule)
+        phases = dict(subdivide_top=pstats["subdivide_top"], **pstats["thread_seconds"])
+        n_bins = pstats["bins"]
+    else:
+        root, phases = _serial(state, subdivision, counts)
+        n_bins = 1
+    t_merge = time.perf_counter()
+    wide, T, ghost_out, rep = state.wide, state.mesh.T, state.mesh.ghost_out, state.rep
+    del state  # frees the points, keys and ops before the output is allocated
+    simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
+        T, ghost_out, rep, perm, root, workers)
+    t_output = time.perf_counter()
+    # wall clock: in parallel only the top subdivision is apart from the merges
+    subdivide_wall = phases["subdivide_top"] + (0.0 if parallel_run else phases["subdivide_lower"])
+    stats = {
+        "seconds": {"validate": t_validate - t0, "sort": t_sort - t_validate,
+                    "allocate": t_alloc - t_sort, "subdivide": subdivide_wall,
+                    "merge": t_merge - t_alloc - subdivide_wall, "output": t_output - t_merge,
+                    "total": t_output - t0},
+        # paper Fig. 5: thread-seconds per phase, lower part (bins) and top
+        "phases": dict(sort=t_sort - t_validate, **phases),
+        "bins": n_bins,
+        "n_distinct": n_distinct,
+        "key_bits": 128 if wide else 64,
+        "scale_exponent": scale_exp,
+        "subdivision": subdivision,
+        "filter": "level" if level_filter else "constant",
+        "threads": workers.threads,
+        "schedule": schedule if parallel_run else "serial",
+    }
+    if counters:
+        stats["counts"] = as_dict(counts)
+        stats["per_point"] = per_point(stats["counts"], n_distinct)
+    return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
+                         duplicate_of=duplicate_of, stats=stats, degenerate=bool(reason),
+                         reason=reason)
+
+
+def _output(T, ghost_out, rep, perm, root, workers):
+    """The real triangles in input indices, compacted in parallel, the hull
+    loop and duplicate_of: (simplices, neighbors, hull, duplicate_of,
+    n_distinct, reason the set is degenerate or "")."""
+    n = len(perm)
+    idx = perm.dtype
+    nslots = len(T) // 6
+    slot_chunks = workers.chunks(nslots)
+    newid = np.empty(nslots, dtype=idx)
+    counts = workers.map(slot_chunks, lambda c, lo, hi: output.number_real(T, newid, lo, hi))
+    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+    if len(slot_chunks) > 1:
+        workers.map(slot_chunks, lambda c, lo, hi: output.offset_ids(newid, lo, hi, starts[c]))
+    m = int(starts[-1])
+    simplices = np.empty((m, 3), dtype=idx)
+    neighbors = np.empty((m, 3), dtype=idx)
+    workers.map(slot_chunks, lambda c, lo, hi: output.write_real(T, newid, perm, simplices,
+                                                                 neighbors, lo, hi))
+    del newid
+    duplicate_of = np.empty(n, dtype=idx)
+    n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
+        rep, perm, duplicate_of, lo, hi))))
+    reason = ""
+    if m:
+        hull = output.hull_loop(T, ghost_out[root[XMIN]], perm, perm[:1])
+    elif n == 0:
+        hull, reason = np.empty(0, dtype=idx), "no points"
+    elif root[SINGLE]:
+        hull, reason = perm[[root[XMIN]]], "fewer than 3 distinct points"
+    else:
+        hull = perm[[root[XMIN], root[XMAX]]]
+        reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
+    return simplices, neighbors, hull, duplicate_of, n_distinct, reason

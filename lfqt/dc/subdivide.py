@@ -1,0 +1,253 @@
+"""Phase 2 of the divide and conquer: the subdivision (fqDel 3.2, Algorithm 1).
+
+The subdivision writes the quad-tree as a post-order list of ``ops``:
+``-(v+1)`` pushes the single vertex ``v``; ``(p << 8) | code`` merges the two
+partitions on top of the stack, splitting at sorted position ``p``.
+``code < 128`` is the Morton bit of an LFQT split (odd: x-split);
+``ALT_X``/``ALT_Y`` are Triangle-style alternating cuts (the ablation of
+paper section 4.3).
+"""
+import numpy as np
+from numba import njit
+from numba.cpython.unsafe.numbers import leading_zeros
+
+from ..indexing import u
+from .layout import STACK, less
+
+ALT_X = 128
+ALT_Y = 129
+_ONE = np.uint64(1)
+_ZERO = np.uint64(0)
+
+
+@njit(cache=True, inline="always")
+def _bsr(x):
+    """Index of the highest set bit of a non-zero uint64 (one lzcnt)."""
+    return 63 - leading_zeros(x)
+
+
+@njit(cache=True, inline="always")
+def _diff_bit(hi_a, lo_a, hi_b, lo_b):
+    """Highest bit in which two 128-bit keys differ, or -1 when equal.  Keys
+    are passed as scalars: array arguments on a hot path cost numba atomic
+    reference counting."""
+    d = hi_a ^ hi_b
+    if d != 0:
+        return 64 + _bsr(d)
+    d = lo_a ^ lo_b
+    if d != 0:
+        return _bsr(d)
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _has_bit(hi, lo, bit):
+    if bit >= 64:
+        return (hi >> np.uint64(bit - 64)) & _ONE
+    return (lo >> np.uint64(bit)) & _ONE
+
+
+@njit(cache=True, nogil=True)
+def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
+    """Algorithm 1 of fqDel as one sweep: append the post-order ops of the
+    quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
+    Runs of equal keys become one vertex; ``rep[i]`` is set to the sorted
+    position that represents position i.  Returns the new op count.
+
+    A node splits at the gap where its first and last keys first differ,
+    and that gap's highest differing bit is the largest of all gaps in the
+    node, so the quad-tree is the Cartesian tree of the adjacent keys'
+    differing bits.  Its post-order falls out of a stack of open splits, in
+    O(n) and without Algorithm 1's binary search per node; the ops are the
+    same as the recursive form's.
+    """
+    if hi <= lo:
+        return nops
+    s_split = np.empty(STACK, dtype=np.int64)
+    s_bit = np.empty(STACK, dtype=np.int64)
+    top = -1  # open splits, bits strictly decreasing upwards
+    run = lo
+    rep[u(lo)] = lo
+    ops[u(nops)] = -(lo + 1)
+    nops += 1
+    for i in range(lo + 1, hi):
+        if wide:
+            bit = _diff_bit(khi[u(i - 1)], klo[u(i - 1)], khi[u(i)], klo[u(i)])
+        else:
+            bit = _diff_bit(_ZERO, klo[u(i - 1)], _ZERO, klo[u(i)])
+        if bit < 0:
+            rep[u(i)] = run
+            continue
+        while top >= 0 and s_bit[top] < bit:
+            ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
+            nops += 1
+            top -= 1
+        top += 1
+        s_split[top] = i
+        s_bit[top] = bit
+        run = i
+        rep[u(i)] = i
+        ops[u(nops)] = -(i + 1)
+        nops += 1
+    while top >= 0:
+        ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
+        nops += 1
+        top -= 1
+    return nops
+
+
+@njit(cache=True)
+def subdivide_top(khi, klo, wide, n, bin_size):
+    """The upper levels of the quad-tree, split until a node holds at most
+    ``bin_size`` keys (or only equal keys): returns the post-order nodes as
+    (lo, hi, split, bit, left, right) rows; split = -1 marks a bin."""
+    # Inner nodes hold more than bin_size keys and are disjoint per depth
+    # (at most 128 levels), which bounds the node count.
+    cap = 2 * 130 * (n // max(bin_size, 1) + 1) + 8
+    nodes = np.empty((cap, 6), dtype=np.int64)
+    count = 0
+    s_lo = np.empty(STACK, dtype=np.int64)
+    s_hi = np.empty(STACK, dtype=np.int64)
+    s_split = np.empty(STACK, dtype=np.int64)
+    s_bit = np.empty(STACK, dtype=np.int64)
+    s_state = np.empty(STACK, dtype=np.int64)
+    s_left = np.empty(STACK, dtype=np.int64)
+    top = 0
+    s_lo[0] = 0
+    s_hi[0] = n
+    s_state[0] = 0
+    last = -1
+    while top >= 0:
+        a = s_lo[top]
+        b = s_hi[top]
+        st = s_state[top]
+        if st == 0:
+            if wide:
+                bit = _diff_bit(khi[u(a)], klo[u(a)], khi[u(b - 1)], klo[u(b - 1)])
+            else:
+                bit = _diff_bit(_ZERO, klo[u(a)], _ZERO, klo[u(b - 1)])
+            if b - a <= bin_size or bit < 0:
+                nodes[count, 0] = a
+                nodes[count, 1] = b
+                nodes[count, 2] = -1
+                nodes[count, 3] = -1
+                nodes[count, 4] = -1
+                nodes[count, 5] = -1
+                last = count
+                count += 1
+                top -= 1
+                continue
+            left = a
+            right = b - 1
+            while right - left > 1:
+                mid = (left + right) >> 1
+                if _has_bit(khi[u(mid)] if wide else _ZERO, klo[u(mid)], bit):
+                    right = mid
+                else:
+                    left = mid
+            s_split[top] = right
+            s_bit[top] = bit
+            s_state[top] = 1
+            top += 1
+            s_lo[top] = a
+            s_hi[top] = right
+            s_state[top] = 0
+        elif st == 1:
+            s_left[top] = last
+            s_state[top] = 2
+            top += 1
+            s_lo[top] = s_split[top - 1]
+            s_hi[top] = b
+            s_state[top] = 0
+        else:
+            nodes[count, 0] = a
+            nodes[count, 1] = b
+            nodes[count, 2] = s_split[top]
+            nodes[count, 3] = s_bit[top]
+            nodes[count, 4] = s_left[top]
+            nodes[count, 5] = last
+            last = count
+            count += 1
+            top -= 1
+    return nodes[:count].copy()
+
+
+@njit(cache=True)
+def _select(ids, lo, hi, k, P, axis):
+    """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element)."""
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        # median of three as pivot
+        a, b, c = ids[lo], ids[mid], ids[hi - 1]
+        if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
+            a, b = b, a
+        if less(P[c, 0], P[c, 1], P[b, 0], P[b, 1], axis):
+            b, c = c, b
+            if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
+                a, b = b, a
+        px = P[b, 0]
+        py = P[b, 1]
+        i = lo
+        j = hi - 1
+        while i <= j:
+            while less(P[ids[i], 0], P[ids[i], 1], px, py, axis):
+                i += 1
+            while less(px, py, P[ids[j], 0], P[ids[j], 1], axis):
+                j -= 1
+            if i <= j:
+                t = ids[i]
+                ids[i] = ids[j]
+                ids[j] = t
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j + 1
+        elif k >= i:
+            lo = i
+        else:
+            return
+
+
+@njit(cache=True)
+def subdivide_alternating(ids, P, ops):
+    """Triangle's alternating median cuts over distinct vertices ``ids``:
+    fill ``ops`` in post-order and return their count."""
+    n = ids.shape[0]
+    _select(ids, 0, n, n >> 1, P, 0)
+    s_lo = np.empty(STACK, dtype=np.int64)
+    s_hi = np.empty(STACK, dtype=np.int64)
+    s_axis = np.empty(STACK, dtype=np.int64)
+    s_state = np.empty(STACK, dtype=np.int64)
+    top = 0
+    s_lo[0] = 0
+    s_hi[0] = n
+    s_axis[0] = 0
+    s_state[0] = 0
+    nops = 0
+    while top >= 0:
+        a = s_lo[top]
+        b = s_hi[top]
+        st = s_state[top]
+        if b - a == 1:
+            ops[nops] = -(ids[a] + 1)
+            nops += 1
+            top -= 1
+            continue
+        mid = a + ((b - a) >> 1)
+        child_axis = 1 - s_axis[top]
+        if st == 0:
+            # Each half is re-cut along the other axis before it is divided.
+            _select(ids, a, mid, a + ((mid - a) >> 1), P, child_axis)
+            _select(ids, mid, b, mid + ((b - mid) >> 1), P, child_axis)
+            s_state[top] = 1
+            top += 1
+            s_lo[top], s_hi[top], s_axis[top], s_state[top] = a, mid, child_axis, 0
+        elif st == 1:
+            s_state[top] = 2
+            top += 1
+            s_lo[top], s_hi[top], s_axis[top], s_state[top] = mid, b, child_axis, 0
+        else:
+            ops[nops] = (mid << 8) | (ALT_X + s_axis[top])
+            nops += 1
+            top -= 1
+    return nops

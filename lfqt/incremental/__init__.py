@@ -1,0 +1,141 @@
+"""Incremental Delaunay insertion in 2D and 3D (Liu et al. 2013): the
+validated public wrapper ``insert`` over the kernels of lfqt.incremental.kernel."""
+import time
+
+import numpy as np
+
+from .. import orders
+from .._input import exact_points, index_dtype
+from ..clock import cycles_per_second
+from ..predicates.counters import NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
+from ..triangulation import Triangulation
+from . import kernel
+
+# the walk counts its orientation tests, not their stages
+_COUNTED = [NAMES[k] for k in range(N_INSERT) if k not in (ORIENT_S1, ORIENT_S2)]
+
+
+def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
+    """Exact Delaunay triangulation of 2D or 3D points by incremental
+    insertion (Bowyer–Watson) in a given order (Liu et al. 2013).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        Dimension from the shape; validated and rescaled like ``triangulate``.
+    order : str or (perm, hint)
+        A name from ``lfqt.orders.ORDERS`` ("kdtree" by default,
+        "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random",
+        "input") or an explicit pair of int arrays.
+    hint : {"parent", "sibling"}, optional
+        For the Kd orders: start each walk at the parent (default) or the
+        left sibling.
+    counters : bool
+        Report ``stats["counts"]`` (orientation tests while locating,
+        in-sphere tests, conflicting cells, cycles per phase) and
+        ``stats["per_point"]``; the kernel counts anyway, so this is free.
+    seed : int
+        For the randomized orders.
+
+    Returns
+    -------
+    Triangulation
+        In 3D ``simplices`` are right-handed tetrahedra and ``hull`` the
+        outward (k, 3) hull facets.
+    """
+    t0 = time.perf_counter()
+    P, s = exact_points(points, (2, 3))
+    n, d = P.shape
+    t1 = time.perf_counter()
+    perm, hints, order_name = _order(P, order, hint, seed)
+    t2 = time.perf_counter()
+    span = float(np.abs(P).max(initial=1.0)) or 1.0
+    # Store the points in Hilbert order: vertex ids then follow space, so the
+    # cells and coordinates a walk touches are close in memory whatever the
+    # insertion order (the Kd order jumps across space at every level).
+    store = _storage_order(P)
+    rank = np.empty(n, dtype=np.int64)
+    rank[store] = np.arange(n)
+    hint_ids = np.where(hints >= 0, rank[np.maximum(hints, 0)], -1)
+    C, N, alive, ncells, dup_rank, cnt, ok = kernel.insert_all(
+        np.ascontiguousarray(P[store]), d, rank[perm], hint_ids, span)
+    dup_of = store[dup_rank[rank]]
+    t3 = time.perf_counter()
+    degenerate, reason = False, ""
+    if ok:
+        simplices, neighbors = kernel.finite_cells(C, N, alive, store)
+        facets = kernel.hull_facets(C, alive, store)
+        hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
+    else:
+        simplices, neighbors, hull, dup_of, reason = _degenerate(P)
+        degenerate = True
+    t4 = time.perf_counter()
+    stats = {
+        "seconds": {"validate": t1 - t0, "order": t2 - t1, "insert": t3 - t2,
+                    "output": t4 - t3, "total": t4 - t0},
+        "order": order_name, "dimension": d, "scale_exponent": s,
+        "n_distinct": int(np.count_nonzero(dup_of == np.arange(n))),
+    }
+    if counters:
+        counts = {name: int(cnt[NAMES.index(name)]) for name in _COUNTED}
+        stats["counts"] = counts
+        stats["per_point"] = per_point(counts, stats["n_distinct"])
+        stats["cycles"] = {"locate": counts["locate_cycles"], "cavity": counts["cavity_cycles"]}
+        hz = cycles_per_second()
+        stats["seconds"]["locate"] = counts["locate_cycles"] / hz
+        stats["seconds"]["cavity"] = counts["cavity_cycles"] / hz
+    return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
+                         duplicate_of=dup_of.astype(index_dtype(n)), stats=stats,
+                         degenerate=degenerate, reason=reason)
+
+
+def _order(P, order, hint, seed):
+    """(perm, hints, name) of the insertion order."""
+    n = len(P)
+    if isinstance(order, tuple):
+        perm, hints = (np.asarray(a, dtype=np.int64) for a in order)
+        if sorted(perm.tolist()) != list(range(n)) or len(hints) != n:
+            raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
+                             "range(n) and one hint per point")
+        return perm, hints, "explicit"
+    perm, hints = orders.order(P, order, hint=hint or "parent", seed=seed)
+    return perm, hints, order
+
+
+def _degenerate(P):
+    """The output for points that span fewer than d dimensions: no cells,
+    the extreme points as hull, duplicates by exact equality."""
+    n, d = P.shape
+    idx = index_dtype(n)
+    distinct = np.unique(P, axis=0, return_index=True)[1] if n else np.empty(0, int)
+    hull = np.array(sorted({int(distinct[0]), int(distinct[-1])}) if n else [], dtype=idx)
+    reason = ("no points" if n == 0 else "fewer than %d affinely independent points (%s)"
+              % (d + 1, "all equal" if len(distinct) == 1 else
+                 "collinear" if d == 2 else "collinear or coplanar"))
+    dup_of = np.arange(n)
+    if n:
+        _, first, inv = np.unique(P, axis=0, return_index=True, return_inverse=True)
+        dup_of = first[inv.ravel()]
+    empty = np.empty((0, d + 1), dtype=np.int32)
+    return empty, empty.copy(), hull, dup_of, reason
+
+
+def _storage_order(P):
+    """A permutation of the rows of P along a Hilbert curve (2D or 3D)."""
+    if len(P) == 0:
+        return np.arange(0)
+    # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine enough
+    # for locality, and cheaper to index than the order's 31/21 bits.
+    bits = 16 if P.shape[1] == 2 else 10
+    return orders.sorted_by_key(orders.hilbert_keys(P, np.arange(len(P)), bits))
+
+
+def _chain_hull(edges):
+    """Counter-clockwise vertex loop from 2D hull facets (a, b) of infinite
+    cells, whose counter-clockwise hull edge is b -> a."""
+    nxt = {int(b): int(a) for a, b in edges}
+    start = int(edges[0][1])
+    loop = [start]
+    while nxt[loop[-1]] != start:
+        loop.append(nxt[loop[-1]])
+    return np.array(loop, dtype=np.int32)

@@ -1,0 +1,562 @@
+"""Incremental Delaunay (Bowyer–Watson) in 2D and 3D, in a given order.
+
+Cells are rows of flat arrays: ``C[c]`` holds the d+1 vertices (input
+indices), ``N[c, i]`` the cell across the face opposite vertex i.  The hull
+is closed by *infinite* cells containing the vertex ``INF`` (-1), so every
+face has two cells.  Finite cells are positively oriented (counter-clockwise
+in 2D, right-handed in 3D); an infinite cell is oriented so that putting a
+point beyond its hull facet in place of ``INF`` gives a positive cell.
+
+Inserting p: a remembering visibility walk from the hint's cell (counting
+orientation tests, paper 2's location cost), then the cavity of cells whose
+circumsphere *strictly* contains p (counting them, paper 2's conflicts), then
+one new cell per cavity-boundary facet.  With the strict test p lies strictly
+on the cavity side of every boundary facet, even for cospherical input (the
+region inside one sphere and outside-or-on the other lies strictly on one
+side of their common facet), so no cell is ever flat.  An infinite cell
+conflicts when p is beyond its hull facet, or on its plane and strictly
+inside the facet's circumcircle.  Freed cells go to a free list; storage
+doubles when full.
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from ..clock import cycle_counter
+from ..indexing import u
+from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
+                                   N_INSERT, N_PREDICATE, ORIENT, tally)
+from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
+from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
+
+INF = -1
+
+
+@njit(cache=True, inline="always")
+def _orient_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez):
+    """Orientation of a, b, c (2D, z ignored) or of a, b, c, e (3D)."""
+    if d == 2:
+        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A)
+    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A)
+
+
+@njit(cache=True, inline="always")
+def _insphere_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz):
+    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e."""
+    if d == 2:
+        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A)
+    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A)
+
+
+@njit(cache=True)
+def _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span):
+    """p lies on the line (2D: segment a-b) or plane (3D: triangle a, b, e)
+    of a hull facet: is it strictly inside the facet's circumcircle (2D: the
+    open segment)?  Scalars only, like every helper of the insertion loop."""
+    if d == 2:
+        if min(ax, bx) < max(ax, bx):
+            return min(ax, bx) < px < max(ax, bx)
+        return min(ay, by) < py < max(ay, by)
+    # Any sphere through a, b, e meets their plane in their circumcircle: use
+    # one through a point q off the plane (found exactly among three offsets).
+    for axis in range(3):
+        qx = ax + span if axis == 0 else ax
+        qy = ay + span if axis == 1 else ay
+        qz = az + span if axis == 2 else az
+        o, st = orient3d_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz, O3D_A)
+        if o != 0.0:
+            s, st = insphere_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz,
+                                    px, py, pz, ISP_A)
+            return s * o > 0.0
+    return False
+
+
+@njit(cache=True)
+def _initial_simplex(P, d, perm):
+    """Positions in ``perm`` of the first d+1 affinely independent points, or
+    (-1, ...) when there are none (all equal / collinear / coplanar)."""
+    n = perm.shape[0]
+    pick = np.full(4, -1, dtype=np.int64)
+    if n == 0:
+        return pick
+    pick[0] = 0
+    k = 1
+    for t in range(1, n):
+        q = perm[t]
+        if k == 1:
+            a = perm[pick[0]]
+            if P[a, 0] != P[q, 0] or P[a, 1] != P[q, 1] or P[a, d - 1] != P[q, d - 1]:
+                pick[1] = t
+                k = 2
+        elif k == 2:
+            a = perm[pick[0]]
+            b = perm[pick[1]]
+            collinear = True
+            for ax in range(3 if d == 3 else 1):
+                i0, i1 = (0, 1) if ax == 0 else ((0, 2) if ax == 1 else (1, 2))
+                o, st = orient2d_staged(P[a, i0], P[a, i1], P[b, i0], P[b, i1],
+                                        P[q, i0], P[q, i1], CCW_A)
+                if o != 0.0:
+                    collinear = False
+            if not collinear:
+                pick[2] = t
+                k = 3
+                if d == 2:
+                    return pick
+        else:
+            a, b, c = perm[pick[0]], perm[pick[1]], perm[pick[2]]
+            o, st = _orient_pts(3, P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
+                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2])
+            if o != 0.0:
+                pick[3] = t
+                return pick
+    pick[:] = -1
+    return pick
+
+
+# The cell storage and the cavity scratch, passed to the kernels as two
+# tuples: C (m, d+1) vertices, N (m, d+1) neighbours, alive, mark (cavity
+# stamps), vcell (a live cell of each vertex), free (the free list); stack,
+# conflicts, bcell/bface (cavity-boundary facets) and the ridge hash table.
+Cells = namedtuple("Cells", "C N alive mark vcell free")
+Scratch = namedtuple("Scratch", "stack conflicts bcell bface hkeys hvals hstamps")
+# state: (cells in use, free-list length, cavity stamp, last inserted point)
+NCELLS, NFREE, STAMP, LAST = range(4)
+
+
+@njit(cache=True, inline="always")
+def _orient_ids(P, d, v0, v1, v2, v3):
+    """Orientation of the points v0, v1, v2 (2D) or v0, v1, v2, v3 (3D)."""
+    return _orient_pts(d, P[u(v0), 0], P[u(v0), 1], P[u(v0), d - 1], P[u(v1), 0], P[u(v1), 1],
+                       P[u(v1), d - 1], P[u(v2), 0], P[u(v2), 1], P[u(v2), d - 1], P[u(v3), 0],
+                       P[u(v3), 1], P[u(v3), d - 1])
+
+
+@njit(cache=True, inline="always")
+def _with_p(C, d, c, i, p):
+    """The vertices of cell c with vertex i replaced by p (v3 = v0 in 2D)."""
+    v0 = p if i == 0 else C[u(c), 0]
+    v1 = p if i == 1 else C[u(c), 1]
+    v2 = p if i == 2 else C[u(c), 2]
+    v3 = (p if i == 3 else C[u(c), 3]) if d == 3 else v0
+    return v0, v1, v2, v3
+
+
+@njit(cache=True, inline="always")
+def _infinite_slot(C, width, c):
+    """The slot of INF in cell c, or -1 for a finite cell."""
+    f = -1
+    for k in range(width):
+        if C[u(c), u(k)] == INF:
+            f = k
+    return f
+
+
+@njit(cache=True, inline="always")
+def _duplicate_in(P, d, C, c, p):
+    """The vertex of cell c at p's position, or -1."""
+    for i in range(d + 1):
+        v = C[u(c), u(i)]
+        if P[u(v), 0] == P[u(p), 0] and P[u(v), 1] == P[u(p), 1] and \
+                P[u(v), d - 1] == P[u(p), d - 1]:
+            return v
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _conflicts(P, d, C, y, p, span):
+    """Does cell y conflict with p: (a finite cell whose circumsphere
+    strictly contains p, or an infinite cell with p beyond its hull facet,
+    or on its plane and strictly inside its circumcircle; the in-sphere
+    test's deciding stage, -1 for an infinite cell).  Every array read comes
+    before the predicates: an array used after a call that numba does not
+    inline keeps its atomic reference count alive."""
+    width = d + 1
+    f = _infinite_slot(C, width, y)
+    if f < 0:
+        a, b, e = C[u(y), 0], C[u(y), 1], C[u(y), 2]
+        g = C[u(y), 3] if d == 3 else a
+        sv, st = _insphere_pts(d, P[u(a), 0], P[u(a), 1], P[u(a), d - 1], P[u(b), 0],
+                               P[u(b), 1], P[u(b), d - 1], P[u(e), 0], P[u(e), 1],
+                               P[u(e), d - 1], P[u(g), 0], P[u(g), 1], P[u(g), d - 1],
+                               P[u(p), 0], P[u(p), 1], P[u(p), d - 1])
+        return sv > 0.0, st
+    v0, v1, v2, v3 = _with_p(C, d, y, f, p)
+    fa = C[u(y), u((f + 1) % width)]
+    fb = C[u(y), u((f + 2) % width)]
+    fe = C[u(y), u((f + 3) % width)] if d == 3 else fa
+    ax, ay, az = P[u(fa), 0], P[u(fa), 1], P[u(fa), d - 1]
+    bx, by, bz = P[u(fb), 0], P[u(fb), 1], P[u(fb), d - 1]
+    ex, ey, ez = P[u(fe), 0], P[u(fe), 1], P[u(fe), d - 1]
+    px, py, pz = P[u(p), 0], P[u(p), 1], P[u(p), d - 1]
+    o, st = _orient_ids(P, d, v0, v1, v2, v3)
+    if o != 0.0:
+        return o > 0.0, -1
+    return _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span), -1
+
+
+@njit(cache=True, inline="always")
+def _ridge_key(C, d, n, w, i, k):
+    """Key of the ridge of new cell w's face k (a face through p, p in slot
+    i): the face's vertices other than p."""
+    if d == 2:
+        return C[u(w), u(3 - i - k)] + 1
+    ra = -2
+    rb = -2
+    for m in range(d + 1):
+        if m != i and m != k:
+            if ra == -2:
+                ra = C[u(w), u(m)]
+            else:
+                rb = C[u(w), u(m)]
+    return (min(ra, rb) + 1) * (n + 1) + max(ra, rb) + 1
+
+
+@njit(cache=True, inline="always")
+def _new_cell(C, N, alive, mark, vcell, d, w, x, i, p):
+    """Cell w: the cavity cell x with vertex i replaced by p, glued to the
+    cell outside x's face i."""
+    y = N[u(x), u(i)]
+    alive[u(w)] = True
+    mark[u(w)] = 0
+    for k in range(d + 1):
+        C[u(w), u(k)] = C[u(x), u(k)]
+    C[u(w), u(i)] = p
+    N[u(w), u(i)] = y
+    for k in range(d + 1):
+        if N[u(y), u(k)] == x:
+            N[u(y), u(k)] = w
+        v = C[u(w), u(k)]
+        if v >= 0:
+            vcell[u(v)] = w
+
+
+@njit(cache=True, inline="always")
+def _commit(counts, pending):
+    """Add a point's counts to the totals and clear them."""
+    for k in range(N_PREDICATE):
+        counts[k] += pending[k]
+        pending[k] = 0
+
+
+@njit(cache=True, inline="always")
+def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
+    """Insert perm[t0:] until done (returns (n, 0)) or until the cell arrays
+    (reason 1) or the cavity scratch (2) are too small for the next point,
+    before touching it; returns (t, reason) to resume after growing.
+
+    The per-point loops (the walk, the cavity, the new cells and their ridge
+    table) are written out here: an inlined helper that loops and takes the
+    arrays costs numba an atomic reference count per array and call.  No
+    array is reassigned in here for the same reason.  Indices go through
+    ``u`` (lfqt.indexing).  Inlined into one kernel per dimension, so that
+    ``d`` is a constant there."""
+    C, N, alive, mark, vcell, free = cells
+    stack, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
+    n = perm.shape[0]
+    width = d + 1
+    pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
+    rnd = np.uint64(88172645463325252 + t0)
+    for t in range(t0, n):
+        if pick[0] == t or pick[1] == t or pick[2] == t or pick[d] == t:
+            continue  # a vertex of the initial simplex
+        p = perm[u(t)]
+        h = hint[u(t)]
+        c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
+        c_start = cycle_counter()
+        # ---- locate: remembering visibility walk, from a finite cell
+        f = _infinite_slot(C, width, c)
+        if f >= 0:
+            c = N[u(c), u(f)]
+        prev = -1
+        moved = True
+        while moved and _infinite_slot(C, width, c) < 0:
+            rnd ^= rnd << np.uint64(13)
+            rnd ^= rnd >> np.uint64(7)
+            rnd ^= rnd << np.uint64(17)
+            rot = np.int64(rnd % np.uint64(width))  # a random first face: the walk cannot cycle
+            moved = False
+            for q in range(width):
+                i = q + rot if q + rot < width else q + rot - width
+                nb = N[u(c), u(i)]
+                if nb == prev:
+                    continue
+                v0, v1, v2, v3 = _with_p(C, d, c, i, p)
+                o, st = _orient_ids(P, d, v0, v1, v2, v3)
+                pending[ORIENT] += 1
+                if o < 0.0:
+                    prev, c, moved = c, nb, True
+                    break
+        c_located = cycle_counter()
+        dup = -1 if _infinite_slot(C, width, c) >= 0 else _duplicate_in(P, d, C, c, p)
+        if dup >= 0:
+            dup_of[u(p)] = dup
+            counts[DUPLICATES] += 1
+            _commit(counts, pending)
+            continue
+        # ---- cavity: cells whose circumsphere strictly contains p (marked
+        # stamp; cells found outside it stamp + 1)
+        state[STAMP] += 2
+        stamp = state[STAMP]
+        nstack, nconf, nb_count, small = 1, 0, 0, False
+        stack[0] = c
+        mark[u(c)] = stamp
+        while nstack > 0 and not small:
+            nstack -= 1
+            x = stack[u(nstack)]
+            small = nconf == conflicts.shape[0]
+            if small:
+                break
+            conflicts[u(nconf)] = x
+            nconf += 1
+            for i in range(width):
+                y = N[u(x), u(i)]
+                if mark[u(y)] == stamp:
+                    continue
+                conflict = False
+                if mark[u(y)] != stamp + 1:
+                    conflict, st = _conflicts(P, d, C, y, p, span)
+                    if st >= 0:
+                        tally(pending, INCIRCLE, st)
+                if conflict:
+                    mark[u(y)] = stamp
+                    small = nstack == stack.shape[0]
+                    if small:
+                        break
+                    stack[u(nstack)] = y
+                    nstack += 1
+                else:
+                    mark[u(y)] = stamp + 1
+                    small = nb_count == bcell.shape[0]
+                    if small:
+                        break
+                    bcell[u(nb_count)] = x
+                    bface[u(nb_count)] = i
+                    nb_count += 1
+        if small or 4 * d * nb_count > hkeys.shape[0]:
+            pending[:] = 0  # nothing is modified yet: this point is retried after growing
+            return t, 2
+        if state[NCELLS] + max(nb_count - state[NFREE], 0) > C.shape[0]:
+            pending[:] = 0
+            return t, 1
+        # ---- one new cell per boundary facet, glued to each other through a
+        # ridge table that uses only a prefix sized to this cavity (load at
+        # most 1/4), so that it stays in L1; stamps invalidate old entries
+        hbits = 4
+        while (1 << hbits) < 2 * d * nb_count:
+            hbits += 1
+        mask = (1 << hbits) - 1
+        hshift = np.uint64(64 - hbits)
+        for b in range(nb_count):
+            i = bface[u(b)]
+            if state[NFREE] > 0:
+                state[NFREE] -= 1
+                w = free[u(state[NFREE])]
+            else:
+                w = state[NCELLS]
+                state[NCELLS] += 1
+            _new_cell(C, N, alive, mark, vcell, d, w, bcell[u(b)], i, p)
+            for k in range(width):
+                if k == i:
+                    continue
+                key = _ridge_key(C, d, n, w, i, k)
+                # Fibonacci hashing: the product's high bits
+                e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
+                while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
+                    e = (e + 1) & mask
+                if hstamps[u(e)] == stamp:
+                    w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
+                    N[u(w), u(k)] = w2
+                    N[u(w2), u(hvals[u(e)] - w2 * width)] = w
+                else:
+                    hstamps[u(e)] = stamp
+                    hkeys[u(e)] = key
+                    hvals[u(e)] = w * width + k
+        for q in range(nconf):
+            alive[u(conflicts[u(q)])] = False
+            free[u(state[NFREE])] = conflicts[u(q)]
+            state[NFREE] += 1
+        counts[CONFLICTS] += nconf
+        _commit(counts, pending)
+        state[LAST] = p
+        counts[LOCATE_CYCLES] += c_located - c_start
+        counts[CAVITY_CYCLES] += cycle_counter() - c_located
+    return n, 0
+
+
+@njit(cache=True)
+def _insert_range_2d(P, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
+    return _insert_range(P, 2, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of)
+
+
+@njit(cache=True)
+def _insert_range_3d(P, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
+    return _insert_range(P, 3, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of)
+
+
+@njit(cache=True)
+def _new_cells(cap, width, n):
+    return Cells(np.empty((cap, width), dtype=np.int32), np.empty((cap, width), dtype=np.int32),
+                 np.zeros(cap, dtype=np.bool_), np.zeros(cap, dtype=np.int32),
+                 np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
+
+
+@njit(cache=True)
+def _grown(cells):
+    """The cell storage at twice its size (vcell is per point: kept)."""
+    C, N, alive, mark, vcell, free = cells
+    grow = C.shape[0]
+    width = C.shape[1]
+    return Cells(np.concatenate((C, np.empty((grow, width), dtype=np.int32))),
+                 np.concatenate((N, np.empty((grow, width), dtype=np.int32))),
+                 np.concatenate((alive, np.zeros(grow, dtype=np.bool_))),
+                 np.concatenate((mark, np.zeros(grow, dtype=np.int32))), vcell,
+                 np.concatenate((free, np.empty(grow, dtype=np.int32))))
+
+
+@njit(cache=True)
+def _new_scratch(size):
+    """Cavity scratch for ``size`` cells, and a ridge table of 16 per cell."""
+    return Scratch(np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
+                   np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
+                   np.empty(16 * size, dtype=np.int64), np.empty(16 * size, dtype=np.int64),
+                   np.zeros(16 * size, dtype=np.int64))
+
+
+@njit(cache=True)
+def _start(P, d, s, cells):
+    """The simplex of the points s (d+1 ids, reordered to be positive) and
+    its d+1 infinite cells, all glued: returns the number of cells."""
+    C, N, alive, vcell = cells.C, cells.N, cells.alive, cells.vcell
+    width = d + 1
+    s3 = s[3] if d == 3 else s[0]
+    o, st = _orient_ids(P, d, s[0], s[1], s[2], s3)
+    if o < 0.0:
+        s[0], s[1] = s[1], s[0]
+    for k in range(width):
+        C[0, k] = s[k]
+    for i in range(width):
+        c = 1 + i
+        for k in range(width):
+            C[c, k] = s[k]
+        C[c, i] = INF
+        # beyond facet i means on the other side from s[i]: swap two finite slots
+        j0 = (i + 1) % width
+        j1 = (i + 2) % width
+        C[c, j0], C[c, j1] = C[c, j1], C[c, j0]
+    ncells = width + 1
+    for c in range(ncells):
+        alive[c] = True
+    for c in range(ncells):
+        for i in range(width):
+            # neighbour across face i: the other cell holding all of c's vertices but C[c, i]
+            for c2 in range(ncells):
+                if c2 == c:
+                    continue
+                shared = 0
+                for k in range(width):
+                    if k == i:
+                        continue
+                    for k2 in range(width):
+                        if C[c2, k2] == C[c, k]:
+                            shared += 1
+                if shared == d:
+                    N[c, i] = c2
+    for k in range(width):
+        vcell[s[k]] = 0
+    return ncells
+
+
+@njit(cache=True)
+def insert_all(P, d, perm, hint, span, capacity=0):
+    """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
+    counts, ok).  ok is False when the points span fewer than d dimensions."""
+    n = P.shape[0]
+    counts = np.zeros(N_INSERT, dtype=np.int64)
+    dup_of = np.arange(n)
+    width = d + 1
+    cells = _new_cells(capacity if capacity > 0 else max(16, 8 * n), width, n)
+    pick = _initial_simplex(P, d, perm)
+    if pick[0] < 0 or pick[d] < 0:
+        return cells.C[:0], cells.N[:0], cells.alive[:0], 0, dup_of, counts, False
+    s = np.empty(width, dtype=np.int64)
+    for k in range(width):
+        s[k] = perm[pick[k]]
+    state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
+    scratch = _new_scratch(256)  # doubled whenever a cavity needs more
+    t = 0
+    while True:
+        if d == 2:
+            t, reason = _insert_range_2d(P, perm, hint, span, pick, t, cells, scratch, state,
+                                         counts, dup_of)
+        else:
+            t, reason = _insert_range_3d(P, perm, hint, span, pick, t, cells, scratch, state,
+                                         counts, dup_of)
+        if reason == 0:
+            break
+        if reason == 1:
+            cells = _grown(cells)
+        else:
+            scratch = _new_scratch(2 * scratch.stack.shape[0])
+    m = state[NCELLS]
+    return cells.C[:m], cells.N[:m], cells.alive[:m], m, dup_of, counts, True
+
+
+@njit(cache=True)
+def finite_cells(C, N, alive, ids):
+    """(simplices, neighbors) of the live finite cells, vertices mapped
+    through ``ids``, neighbours renumbered, -1 across the hull."""
+    m = C.shape[0]
+    width = C.shape[1]
+    newid = np.full(m, -1, dtype=np.int64)
+    k = 0
+    for c in range(m):
+        if alive[c]:
+            finite = True
+            for i in range(width):
+                if C[c, i] < 0:
+                    finite = False
+            if finite:
+                newid[c] = k
+                k += 1
+    simplices = np.empty((k, width), dtype=np.int32)
+    neighbors = np.empty((k, width), dtype=np.int32)
+    for c in range(m):
+        j = newid[c]
+        if j < 0:
+            continue
+        for i in range(width):
+            simplices[j, i] = ids[C[c, i]]
+            neighbors[j, i] = newid[N[c, i]]
+    return simplices, neighbors
+
+
+@njit(cache=True)
+def hull_facets(C, alive, ids):
+    """Hull facets (2D: edges as a counter-clockwise loop is built by the
+    caller) of the live infinite cells, oriented outward."""
+    m = C.shape[0]
+    width = C.shape[1]
+    out = np.empty((m, width - 1), dtype=np.int64)
+    k = 0
+    for c in range(m):
+        if not alive[c]:
+            continue
+        f = -1
+        for i in range(width):
+            if C[c, i] < 0:
+                f = i
+        if f < 0:
+            continue
+        # the infinite cell with INF -> beyond-point is positive: its facet,
+        # in cyclic order after f, faces outward
+        for j in range(width - 1):
+            out[k, j] = ids[C[c, (f + 1 + j) % width]]
+        if width == 4 and f % 2 == 0:
+            # rotating a 4-tuple by f+1 places is odd when f is even
+            t = out[k, 0]
+            out[k, 0] = out[k, 1]
+            out[k, 1] = t
+        k += 1
+    return out[:k]

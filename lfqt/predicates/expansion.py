@@ -1,0 +1,185 @@
+"""Exact floating-point expansion arithmetic (Shewchuk 1997).
+
+An *expansion* is an array of doubles, nonoverlapping and ordered by
+increasing magnitude, whose exact sum is the value it represents.  Every
+routine here is exact as long as no operation overflows or leaves the
+normal range; lfqt._input keeps coordinates in a window where that holds.
+Also the small-integer fast paths of the exact stages: exact differences
+that are integers in a common power-of-two unit are multiplied in int64.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+EPS = 2.0 ** -53  # half an ulp of 1.0: the relative rounding error of one operation
+SPLITTER = 2.0 ** 27 + 1.0  # Dekker's split of a double into two 26-bit halves
+
+
+@njit(cache=True, inline="always")
+def two_sum(a, b):
+    x = a + b
+    bv = x - a
+    av = x - bv
+    return x, (a - av) + (b - bv)
+
+
+@njit(cache=True, inline="always")
+def two_diff(a, b):
+    x = a - b
+    bv = a - x
+    av = x + bv
+    return x, (a - av) + (bv - b)
+
+
+@njit(cache=True, inline="always")
+def _split(a):
+    c = SPLITTER * a
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+@njit(cache=True, inline="always")
+def two_product(a, b):
+    x = a * b
+    ahi, alo = _split(a)
+    bhi, blo = _split(b)
+    err = x - ahi * bhi
+    err = err - alo * bhi
+    err = err - ahi * blo
+    return x, alo * blo - err
+
+
+@njit(cache=True)
+def expansion_sum(e, elen, f, flen, h):
+    """h = e + f for nonoverlapping expansions (Shewchuk's fast expansion sum,
+    zero-eliminating); returns the length of h."""
+    i = 0
+    j = 0
+    if j >= flen or (i < elen and abs(e[i]) < abs(f[j])):
+        q = e[i]
+        i += 1
+    else:
+        q = f[j]
+        j += 1
+    hlen = 0
+    while i < elen or j < flen:
+        if j >= flen or (i < elen and abs(e[i]) < abs(f[j])):
+            g = e[i]
+            i += 1
+        else:
+            g = f[j]
+            j += 1
+        q, err = two_sum(q, g)
+        if err != 0.0:
+            h[hlen] = err
+            hlen += 1
+    if q != 0.0 or hlen == 0:
+        h[hlen] = q
+        hlen += 1
+    return hlen
+
+
+@njit(cache=True)
+def scale_expansion(e, elen, b, h):
+    """h = b * e, zero-eliminating; returns the length of h."""
+    q, hh = two_product(e[0], b)
+    hlen = 0
+    if hh != 0.0:
+        h[hlen] = hh
+        hlen += 1
+    for i in range(1, elen):
+        p1, p0 = two_product(e[i], b)
+        s, hh = two_sum(q, p0)
+        if hh != 0.0:
+            h[hlen] = hh
+            hlen += 1
+        q, hh = two_sum(p1, s)
+        if hh != 0.0:
+            h[hlen] = hh
+            hlen += 1
+    if q != 0.0 or hlen == 0:
+        h[hlen] = q
+        hlen += 1
+    return hlen
+
+
+@njit(cache=True)
+def expansion_product(e, elen, f, flen):
+    """e * f as a new expansion (rarely used: only the exact stage needs it)."""
+    cap = 2 * elen * flen + 1
+    acc = np.zeros(cap)
+    acc_len = 1
+    tmp = np.empty(2 * elen)
+    out = np.empty(cap)
+    for j in range(flen):
+        tlen = scale_expansion(e, elen, f[j], tmp)
+        olen = expansion_sum(acc, acc_len, tmp, tlen, out)
+        acc, out = out, acc
+        acc_len = olen
+    return acc, acc_len
+
+
+@njit(cache=True)
+def negate(e, elen):
+    out = np.empty(elen)
+    for i in range(elen):
+        out[i] = -e[i]
+    return out
+
+
+@njit(cache=True)
+def exact_diff(a, b):
+    x, y = two_diff(a, b)
+    out = np.empty(2)
+    if y == 0.0:
+        out[0] = x
+        return out, 1
+    out[0] = y
+    out[1] = x
+    return out, 2
+
+
+@njit(cache=True)
+def expansion_sign(e, elen):
+    top = e[elen - 1]
+    return 1.0 if top > 0.0 else (-1.0 if top < 0.0 else 0.0)
+
+
+@njit(cache=True)
+def cross_exact(ux, uxl, vy, vyl, uy, uyl, vx, vxl):
+    """ux*vy - uy*vx for expansion operands."""
+    p, pl = expansion_product(ux, uxl, vy, vyl)
+    q, ql = expansion_product(uy, uyl, vx, vxl)
+    out = np.empty(pl + ql)
+    n = expansion_sum(p, pl, negate(q, ql), ql, out)
+    return out, n
+
+
+@njit(cache=True, inline="always")
+def int_unit(m, limit_bits):
+    """Power of two u with m / u < 2**limit_bits, for the integer fast paths."""
+    return math.ldexp(1.0, math.frexp(m)[1] - limit_bits)
+
+
+@njit(cache=True, inline="always")
+def as_int(v, u):
+    """v / u as an int64 when that is an integer, else a sentinel."""
+    q = v / u  # exact: u is a power of two and no value leaves the normal range
+    return np.int64(q) if q == np.floor(q) else np.int64(-(1 << 62))
+
+
+NOT_INT = -(1 << 62)
+
+
+@njit(cache=True, inline="always")
+def sign_int(v):
+    return 1.0 if v > 0 else (-1.0 if v < 0 else 0.0)
+
+
+@njit(cache=True, inline="always")
+def sign4(x3, x2, x1, x0):
+    for v in (x3, x2, x1, x0):
+        if v != 0.0:
+            return 1.0 if v > 0.0 else -1.0
+    return 0.0

@@ -1,0 +1,223 @@
+"""2D predicates, staged (Shewchuk 1997): orientation and in-circle.
+
+Every predicate returns a float whose *sign* is exact; its magnitude is only
+an estimate.  Three stages, named as in Shewchuk's predicates.c:
+
+1. a float filter: ``|det| > bound * permanent`` decides.  The bound is
+   Triangle's constant (``CCW_A`` / ``ICC_A``) or the level-dependent bound of
+   the LFQT (lfqt.predicates.levels), passed in by the caller;
+2. ``*_adapt`` stage B: the determinant of the *rounded* coordinate
+   differences, computed exactly as an expansion.  It decides when the
+   differences were exact or when it clears ``CCW_B`` / ``ICC_B``;
+3. ``*_exact``: expansion arithmetic from the coordinates themselves.
+
+The ``*_staged`` functions return (value, deciding stage 0, 1 or 2) and take
+scalars only: an array argument on a hot path costs numba an atomic
+reference-count update per call.
+"""
+import numpy as np
+from numba import njit
+
+from .expansion import (EPS, NOT_INT, as_int, cross_exact, exact_diff, expansion_product,
+                        expansion_sign, expansion_sum, int_unit, scale_expansion, sign4, sign_int,
+                        two_diff, two_product, two_sum)
+
+# Shewchuk's error bounds (predicates.c, exactinit): |det - exact| <= bound *
+# permanent for stage A's float evaluation, and for stage B's estimate.
+CCW_A = (3.0 + 16.0 * EPS) * EPS
+CCW_B = (2.0 + 12.0 * EPS) * EPS
+ICC_A = (10.0 + 96.0 * EPS) * EPS
+ICC_B = (4.0 + 48.0 * EPS) * EPS
+WORK_SIZE = 512  # doubles of scratch space of incircle's stage B
+
+
+@njit(cache=True, inline="always")
+def orient2d_staged(ax, ay, bx, by, cx, cy, bound):
+    """(value, stage): value > 0 when a, b, c turn counter-clockwise, < 0
+    clockwise, 0 collinear; stage is 0, 1 or 2 for the stage that decided.
+    Scalars only: an array argument on this hot path would cost an atomic
+    reference-count update per call."""
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
+    detleft = acx * bcy
+    detright = acy * bcx
+    det = detleft - detright
+    # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
+    # random input and cost more than they save.
+    detsum = abs(detleft) + abs(detright)
+    if abs(det) >= bound * detsum:
+        return det, 0
+    return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
+
+
+@njit(cache=True)
+def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
+    """Stages 2 and 3 of orient2d: (sign-exact value, deciding stage)."""
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
+    # Stage B: exact determinant of the rounded differences.
+    l1, l0 = two_product(acx, bcy)
+    r1, r0 = two_product(acy, bcx)
+    i, x0 = two_diff(l0, r0)
+    j, x1 = two_sum(l1, i)
+    k, x1b = two_diff(x1, r1)
+    x3, x2 = two_sum(j, k)
+    # (x3, x2, x1b, x0) is the Two-Two-Diff expansion of (l1 + l0) - (r1 + r0)
+    tails_zero = (two_diff(ax, cx)[1] == 0.0 and two_diff(bx, cx)[1] == 0.0
+                  and two_diff(ay, cy)[1] == 0.0 and two_diff(by, cy)[1] == 0.0)
+    if tails_zero:
+        return sign4(x3, x2, x1b, x0), 1
+    est = x3 + x2 + x1b + x0
+    if abs(est) >= CCW_B * detsum:
+        return est, 1
+    return orient2d_exact(ax, ay, bx, by, cx, cy), 2
+
+
+@njit(cache=True)
+def orient2d_exact(ax, ay, bx, by, cx, cy):
+    """Exact sign of det[[ax-cx, ay-cy], [bx-cx, by-cy]] as -1.0, 0.0 or 1.0."""
+    acx, acxl = exact_diff(ax, cx)
+    acy, acyl = exact_diff(ay, cy)
+    bcx, bcxl = exact_diff(bx, cx)
+    bcy, bcyl = exact_diff(by, cy)
+    d, dl = cross_exact(acx, acxl, bcy, bcyl, acy, acyl, bcx, bcxl)
+    return expansion_sign(d, dl)
+
+
+@njit(cache=True, inline="always")
+def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound):
+    """(value, stage): value > 0 when d lies inside the circle through a, b, c
+    (counter-clockwise), < 0 outside, 0 on it; stage as in orient2d_staged."""
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+    det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
+           + clift * (adxbdy - bdxady))
+    permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
+                 + (abs(cdxady) + abs(adxcdy)) * blift
+                 + (abs(adxbdy) + abs(bdxady)) * clift)
+    if abs(det) > bound * permanent:
+        return det, 0
+    return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
+
+
+@njit(cache=True)
+def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
+    """Stages 2 and 3 of incircle: (sign-exact value, deciding stage)."""
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    tails_zero = (two_diff(ax, dx)[1] == 0.0 and two_diff(bx, dx)[1] == 0.0
+                  and two_diff(cx, dx)[1] == 0.0 and two_diff(ay, dy)[1] == 0.0
+                  and two_diff(by, dy)[1] == 0.0 and two_diff(cy, dy)[1] == 0.0)
+    if tails_zero:
+        # Exact differences that are small integers in a common power-of-two
+        # unit (grids, cocircular integer sets): an int64 determinant, no
+        # expansions (|d| < 2**13 keeps every product below 2**56).
+        m = max(abs(adx), abs(bdx), abs(cdx), abs(ady), abs(bdy), abs(cdy))
+        if m == 0.0:
+            return 0.0, 1
+        u = int_unit(m, 13)
+        a0, a1, b0, b1, c0, c1 = (as_int(adx, u), as_int(ady, u), as_int(bdx, u),
+                                  as_int(bdy, u), as_int(cdx, u), as_int(cdy, u))
+        if min(a0, a1, b0, b1, c0, c1) != NOT_INT:
+            v = ((a0 * a0 + a1 * a1) * (b0 * c1 - c0 * b1)
+                 + (b0 * b0 + b1 * b1) * (c0 * a1 - a0 * c1)
+                 + (c0 * c0 + c1 * c1) * (a0 * b1 - b0 * a1))
+            return sign_int(v), 1
+    work = np.empty(WORK_SIZE)
+    # Stage B: exact determinant of the rounded differences.
+    na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
+    nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
+    nc = _lifted_term(cdx, cdy, adx, ady, bdx, bdy, work, 64)
+    ab = work[96:160]
+    nab = expansion_sum(work[0:32], na, work[32:64], nb, ab)
+    fin = work[160:256]
+    nfin = expansion_sum(ab, nab, work[64:96], nc, fin)
+    if tails_zero:
+        return expansion_sign(fin, nfin), 1
+    est = 0.0
+    for i in range(nfin):
+        est += fin[i]
+    if abs(est) >= ICC_B * permanent:
+        return est, 1
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
+
+
+@njit(cache=True)
+def _lifted_term(px, py, ux, uy, vx, vy, work, base):
+    """(px^2 + py^2) * (ux*vy - vx*uy) for exact doubles, as an expansion
+    stored at work[base : base + len]; returns len (<= 32).  work[256:304]
+    is scratch."""
+    l1, l0 = two_product(ux, vy)
+    r1, r0 = two_product(vx, uy)
+    i, x0 = two_diff(l0, r0)
+    j, x1 = two_sum(l1, i)
+    k, x1b = two_diff(x1, r1)
+    x3, x2 = two_sum(j, k)
+    cr = work[256:260]
+    cr[0] = x0
+    cr[1] = x1b
+    cr[2] = x2
+    cr[3] = x3
+    t8 = work[260:268]
+    t16a = work[272:288]
+    t16b = work[288:304]
+    n8 = scale_expansion(cr, 4, px, t8)
+    na = scale_expansion(t8, n8, px, t16a)
+    n8 = scale_expansion(cr, 4, py, t8)
+    nb = scale_expansion(t8, n8, py, t16b)
+    return expansion_sum(t16a, na, t16b, nb, work[base: base + 32])
+
+
+@njit(cache=True)
+def incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    """Exact sign of the in-circle determinant: > 0 when d lies inside the
+    circle through a, b, c (counter-clockwise)."""
+    adx, adxl = exact_diff(ax, dx)
+    ady, adyl = exact_diff(ay, dy)
+    bdx, bdxl = exact_diff(bx, dx)
+    bdy, bdyl = exact_diff(by, dy)
+    cdx, cdxl = exact_diff(cx, dx)
+    cdy, cdyl = exact_diff(cy, dy)
+    total = np.zeros(1)
+    total_len = 1
+    for k in range(3):
+        if k == 0:
+            px, pxl, py, pyl = adx, adxl, ady, adyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = bdx, bdxl, bdy, bdyl, cdx, cdxl, cdy, cdyl
+        elif k == 1:
+            px, pxl, py, pyl = bdx, bdxl, bdy, bdyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = cdx, cdxl, cdy, cdyl, adx, adxl, ady, adyl
+        else:
+            px, pxl, py, pyl = cdx, cdxl, cdy, cdyl
+            ux, uxl, uy, uyl, vx, vxl, vy, vyl = adx, adxl, ady, adyl, bdx, bdxl, bdy, bdyl
+        xx, xxl = expansion_product(px, pxl, px, pxl)
+        yy, yyl = expansion_product(py, pyl, py, pyl)
+        lift = np.empty(xxl + yyl)
+        liftl = expansion_sum(xx, xxl, yy, yyl, lift)
+        cr, crl = cross_exact(ux, uxl, vy, vyl, uy, uyl, vx, vxl)
+        term, terml = expansion_product(lift, liftl, cr, crl)
+        new_total = np.empty(total_len + terml)
+        total_len = expansion_sum(total, total_len, term, terml, new_total)
+        total = new_total
+    return expansion_sign(total, total_len)
