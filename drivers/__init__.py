@@ -1,35 +1,36 @@
-"""Peers behind one interface, in one registry.  An experiment names peers
-only by registry key; ``make(name)`` returns a fresh instance."""
+"""Peers behind one interface, in one registry.
+
+Each peer family is one module of this package (ours, cgal, triangle,
+qhull, ...) with a ``PEERS`` dict of registry name -> factory; a new family
+is one new module.  An experiment names peers only by registry key;
+``make(name, threads=...)`` returns a fresh, configured instance."""
+import importlib
+import pkgutil
+
 from .base import Peer, Result, Unavailable
 from .isolate import Failure, Measurement, measure, measure_isolated
-from .peers import CgalPeer, LfqtDC, LfqtInsert, QhullPeer, TrianglePeer
 
-INSERT_ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
-
-REGISTRY = {
-    "lfqt-dc": lambda: LfqtDC("lfqt"),
-    "lfqt-dc-alternating": lambda: LfqtDC("alternating"),
-    "triangle": lambda: TrianglePeer(""),
-    "triangle-incremental": lambda: TrianglePeer("i"),
-    "triangle-sweepline": lambda: TrianglePeer("F"),
-    "qhull-2d": lambda: QhullPeer(2),
-    "qhull-3d": lambda: QhullPeer(3),
-    "cgal-dt2": lambda: CgalPeer("dt2"),
-    "cgal-dt3": lambda: CgalPeer("dt3"),
-    "cgal-dt2-order": lambda: CgalPeer("dt2-order"),
-    "cgal-dt3-order": lambda: CgalPeer("dt3-order"),
-}
-for _o in INSERT_ORDERS:
-    REGISTRY[f"lfqt-insert-{_o}"] = (lambda o: lambda: LfqtInsert(o))(_o)
-    for _op in ("dt2-order", "dt3-order"):
-        REGISTRY[f"cgal-{_op[:3]}-{_o}"] = (lambda op, o: lambda: CgalPeer(op, o))(_op, _o)
+_NOT_FAMILIES = {"base", "isolate", "__main__"}
 
 
-def make(name):
+def _families():
+    """The family modules of this package, in name order."""
+    mods = [importlib.import_module(f"{__name__}.{m.name}") for m in pkgutil.iter_modules(__path__)
+            if m.name not in _NOT_FAMILIES]
+    return [m for m in mods if hasattr(m, "PEERS")]
+
+
+FAMILIES = _families()
+REGISTRY = {name: factory for fam in FAMILIES for name, factory in fam.PEERS.items()}
+
+
+def make(name, **options):
+    """A fresh peer ``name`` with ``options`` (threads) applied."""
     try:
-        return REGISTRY[name]()
+        factory = REGISTRY[name]
     except KeyError:
         raise ValueError(f"unknown peer {name!r}; known: {', '.join(REGISTRY)}") from None
+    return factory().set(**options)
 
 
 def names(dim=None):
@@ -45,5 +46,10 @@ def available(name):
         return False, str(e)
 
 
+def build():
+    """Build every compiled family; returns the worst exit code."""
+    return max([fam.build() for fam in FAMILIES if hasattr(fam, "build")], default=0)
+
+
 __all__ = ["Peer", "Result", "Unavailable", "Failure", "Measurement", "measure",
-           "measure_isolated", "REGISTRY", "make", "names", "available"]
+           "measure_isolated", "REGISTRY", "FAMILIES", "make", "names", "available", "build"]

@@ -1,26 +1,8 @@
-"""python -m drivers build   build the CGAL driver (cmake, Release)
+"""python -m drivers build   build the compiled peers (the CGAL driver)
 python -m drivers list    list the peers and whether each can run here"""
-import subprocess
 import sys
 
-from . import REGISTRY, available, make
-from .peers import CGAL_DIR
-
-
-def build():
-    out = CGAL_DIR / "build"
-    out.mkdir(exist_ok=True)
-    try:
-        subprocess.run(["cmake", "-S", str(CGAL_DIR), "-B", str(out), "-DCMAKE_BUILD_TYPE=Release"],
-                       check=True, stdout=subprocess.DEVNULL)
-        subprocess.run(["cmake", "--build", str(out), "-j", "2"], check=True)
-    except (OSError, subprocess.CalledProcessError) as e:
-        print(f"building the CGAL driver failed: {e}\nIt needs Debian's libcgal-dev, libgmp-dev, "
-              "libmpfr-dev and cmake; as root: apt-get install -y libcgal-dev libgmp-dev "
-              "libmpfr-dev cmake", file=sys.stderr)
-        return 1
-    print(out / "cgal_driver")
-    return 0
+from . import REGISTRY, available, build, make
 
 
 def main(argv):

@@ -5,6 +5,9 @@ A peer is prepared (untimed: data conversion, files, warm-up), then ``run()``
 is timed, then ``result()`` gives the simplices (input indices) and counts.
 A peer that measures itself in-process (the CGAL driver) reports that
 through ``self_timing()``, and the runner prefers it to its own clock.
+
+Each peer family is one module of this package with a ``PEERS`` dict
+(registry name -> factory); ``drivers.REGISTRY`` collects them.
 """
 from dataclasses import dataclass, field
 
@@ -16,22 +19,40 @@ class Unavailable(RuntimeError):
 @dataclass
 class Result:
     simplices: object = None  # (m, d+1) int array of input indices, or None
-    counts: dict = field(default_factory=dict)
+    counts: dict = field(default_factory=dict)  # lfqt.predicates.counters' vocabulary
     extra: dict = field(default_factory=dict)
 
 
 class Peer:
     name = "abstract"
     dim = 2  # 2 or 3
-    family = ""  # "ours", "cgal", "triangle", "qhull"
+    family = ""  # the module of drivers/ that defines it
+    options = ()  # options set() takes besides their defaults, e.g. ("threads",)
+    bytes_per_point = 300  # a generous peak-memory estimate, to skip what cannot fit
+    install = ""  # what to do when check() fails
 
     @property
     def dims(self):
         """Dimensions the peer accepts."""
         return (self.dim,)
 
+    def set(self, threads=1):
+        """Apply the runner's options; a peer without an option accepts only
+        its default."""
+        if threads != 1 and "threads" not in self.options:
+            raise ValueError(f"{self.name} runs on one thread; it has no threads option")
+        self.threads = threads
+        return self
+
+    def estimated_bytes(self, n):
+        return n * self.bytes_per_point
+
     def version(self):
         return ""
+
+    def build_info(self):
+        """{compiler, flags, library version} of a compiled peer, else {}."""
+        return {}
 
     def check(self):
         """Raise Unavailable when the peer cannot run here."""

@@ -22,8 +22,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import common
-from .runner import Cell, summarize
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
 
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 3_000_000, 10_000_000]}
@@ -64,15 +65,15 @@ def setup(args, out_dir):
         {"compile_cold_s": cold, "compile_cached_s": warm}, indent=2))
 
 
-def plot(rows, out, scale):
+def plot(df, out):
     import matplotlib.pyplot as plt
-    s = summarize(rows)
-    dists = [d for d in DISTS["paper"] if any(r["distribution"] == d for r in rows)]
-    ns = sorted({r["n"] for r in rows})
-    peers = [p for p in PEERS if any(r["peer"] == p for r in rows)]
+    s = results.summarize(df)
+    dists = [d for d in DISTS["paper"] if d in set(df["distribution"])]
+    ns = sorted(df["n"].unique())
+    peers = [p for p in PEERS if p in set(df["peer"])]
 
     def cell(peer, dist, n):
-        return s.get((peer, dist, n, "", False)) or {}
+        return results.cell(s, peer, dist, n, False)
 
     print(f"\n{'set':8} {'n':>10} {'peer':20} {'median s':>9} {'min s':>8} {'peer/lfqt':>9} "
           f"{'Mpt/s':>6} {'B/pt':>5}   (peer/lfqt > 1: lfqt is faster; pooled over rounds)")
@@ -86,9 +87,9 @@ def plot(rows, out, scale):
                 if c.get("median") is None:
                     print(f"{dist:8} {n:>10,} {peer:20} {c['status']}: {c['detail'][:60]}")
                     continue
-                r = common.ratio(c["median"], ref)
+                r = results.ratio(c["median"], ref)
                 print(f"{dist:8} {n:>10,} {peer:20} {c['median']:9.3f} {c['min']:8.3f} "
-                      f"{common.fmt_ratio(r) if peer != REFERENCE else '':>9} "
+                      f"{results.fmt_ratio(r) if peer != REFERENCE else '':>9} "
                       f"{n / c['median'] / 1e6:6.2f} {c['bytes_per_point'] or 0:5.0f}")
         rates = [n / cell(REFERENCE, dist, n)["median"] / 1e6 for n in ns
                  if cell(REFERENCE, dist, n).get("median")]
@@ -112,7 +113,7 @@ def plot(rows, out, scale):
             if pts:
                 top.plot(*zip(*pts), "o-", color=colors[peer], label=peer,
                          lw=2.5 if peer == REFERENCE else 1.5)
-            ratios = [(n, common.ratio(cell(peer, dist, n).get("median"),
+            ratios = [(n, results.ratio(cell(peer, dist, n).get("median"),
                                        cell(REFERENCE, dist, n).get("median"))) for n in ns]
             ratios = [(n, r) for n, r in ratios if r == r]
             if peer != REFERENCE and ratios:
@@ -135,12 +136,13 @@ def plot(rows, out, scale):
     fig.suptitle("Issue 2: lfqt-dc against the 2D peers, same input, same run "
                  "(dotted: targets, Triangle 3x and CGAL 2x)")
     fig.tight_layout()
-    return common.figure_paths(fig, out, "bench_dc")
+    return figure_paths(fig, out, "bench_dc")
 
 
-def main(argv=None):
-    return common.main("bench_dc", __doc__, grid, plot, argv, repeats=3, rounds=3,
-                       options=[("--no-compile-time", dict(action="store_true"))], setup=setup)
+EXPERIMENT = Experiment("bench_dc", "lfqt-dc against every 2D peer, same input, same run, "
+                        "interleaved rounds", grid, plot, repeats=3, rounds=3,
+                        options=(("--no-compile-time", dict(action="store_true")),), setup=setup)
+main = EXPERIMENT.main
 
 
 if __name__ == "__main__":

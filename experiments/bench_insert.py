@@ -12,8 +12,9 @@ is labelled with lfqt's time divided by CGAL's (> 1: CGAL is faster; the
 target is at most 1.5 against the range insertion)."""
 import sys
 
-from . import common
-from .runner import Cell, summarize
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
 
 SIZES = {"smoke": [5_000], "default": [100_000, 1_000_000], "paper": [1_000_000, 3_000_000]}
 # (dimension, distribution, ours, CGAL peers)
@@ -23,14 +24,14 @@ TARGET = 1.5
 
 
 def grid(scale, threads):
-    return [Cell(peer, dist, n) for n in SIZES[scale] for _, dist, ours, cgal in SETUPS
+    return [Cell(peer, dist, n, threads=threads) for n in SIZES[scale] for _, dist, ours, cgal in SETUPS
             for peer in [ours] + cgal]
 
 
-def plot(rows, out, scale):
+def plot(df, out):
     import matplotlib.pyplot as plt
-    s = summarize(rows)
-    ns = sorted({r["n"] for r in rows})
+    s = results.summarize(df)
+    ns = sorted(df["n"].unique())
     fig, axes = plt.subplots(1, len(SETUPS), figsize=(6 * len(SETUPS), 4.5), squeeze=False)
     print(f"\n{'dim':>3} {'n':>10} {'peer':18} {'median s':>9} {'min s':>8} {'lfqt/peer':>10}"
           f"   (lfqt time / peer time; target <= {TARGET} against range insertion)")
@@ -38,29 +39,30 @@ def plot(rows, out, scale):
         peers = [ours] + cgal
         width = 0.8 / len(peers)
         for k, peer in enumerate(peers):
-            med = [(s.get((peer, dist, n, "", False)) or {}).get("median") for n in ns]
+            med = [results.cell(s, peer, dist, n, False).get("median") for n in ns]
             xs = [i + k * width for i in range(len(ns))]
             ax.bar(xs, [m or 0 for m in med], width, label=peer)
             for x, m, n in zip(xs, med, ns):
-                base = (s.get((ours, dist, n, "", False)) or {}).get("median")
-                r = common.ratio(base, m)
-                lo = (s.get((peer, dist, n, "", False)) or {}).get("min")
+                base = results.cell(s, ours, dist, n, False).get("median")
+                r = results.ratio(base, m)
+                lo = results.cell(s, peer, dist, n, False).get("min")
                 if m:
                     ax.text(x, m, f"{m:.2f}s" + ("" if peer == ours else f"\n{r:.2f}x"),
                             ha="center", va="bottom", fontsize=7)
                     print(f"{dim:>3} {n:>10,} {peer:18} {m:9.3f} {lo:8.3f} "
-                          f"{common.fmt_ratio(r) if peer != ours else '':>10}")
+                          f"{results.fmt_ratio(r) if peer != ours else '':>10}")
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(ns))], [f"{n:,}" for n in ns])
         ax.set_ylabel("seconds (median)")
         ax.set_title(f"{dim}D, {dist}: insertion in Kd order vs CGAL")
         ax.legend(fontsize=8)
         ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
-    return common.figure_paths(fig, out, "bench_insert")
+    return figure_paths(fig, out, "bench_insert")
 
 
-def main(argv=None):
-    return common.main("bench_insert", __doc__, grid, plot, argv, repeats=5)
+EXPERIMENT = Experiment("bench_insert", "lfqt.insert in Kd order against CGAL DT2/DT3, same "
+                        "input, same run", grid, plot, repeats=5)
+main = EXPERIMENT.main
 
 
 if __name__ == "__main__":

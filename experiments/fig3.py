@@ -5,8 +5,9 @@ import sys
 
 import numpy as np
 
-from . import common
-from .runner import Cell, summarize
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 PEERS = ["lfqt-dc", "cgal-dt2", "triangle", "lfqt-dc-alternating", "qhull-2d"]
@@ -23,11 +24,11 @@ def grid(scale, threads):
             if not (peer.startswith("qhull") and n > QHULL_MAX[scale])]
 
 
-def plot(rows, out, scale):
+def plot(df, out):
     import matplotlib.pyplot as plt
-    s = summarize(rows)
-    sizes = sorted({r["n"] for r in rows})
-    peers = [p for p in PEERS if any(r["peer"] == p for r in rows)]
+    s = results.summarize(df)
+    sizes = sorted(df["n"].unique())
+    peers = [p for p in PEERS if p in set(df["peer"])]
     fig, axes = plt.subplots(1, len(sizes), figsize=(6.5 * len(sizes), 4.8), squeeze=False)
     colors = dict(zip(PEERS, ["#1b6ca8", "#d1495b", "#edae49", "#66a182", "#8d8d8d"]))
     print(f"\n{'n':>11} {'distribution':12} " + " ".join(f"{p:>20}" for p in peers[1:])
@@ -35,17 +36,17 @@ def plot(rows, out, scale):
     for ax, n in zip(axes[0], sizes):
         width = 0.8 / len(peers)
         for k, peer in enumerate(peers):
-            vals = [s.get((peer, d, n, "", False), {}).get("median") for d in DISTS]
+            vals = [results.cell(s, peer, d, n, False).get("median") for d in DISTS]
             xs = np.arange(len(DISTS)) + k * width
             ax.bar(xs, [v or 0 for v in vals], width, label=peer, color=colors[peer])
             for x, v, d in zip(xs, vals, DISTS):
-                st = s.get((peer, d, n, "", False), {}).get("status")
+                st = results.cell(s, peer, d, n, False).get("status")
                 if v is None and st:  # timeout, crash, skipped...: say so where the bar would be
                     ax.annotate(st, (x, 0.02), xycoords=("data", "axes fraction"), rotation=90,
                                 fontsize=7, ha="center", va="bottom", color=colors[peer])
         if n == 100_000:  # the paper's stated ratio as a band over CGAL and Triangle
             for j, d in enumerate(DISTS):
-                ours = s.get(("lfqt-dc", d, n, "", False), {}).get("median")
+                ours = results.cell(s, "lfqt-dc", d, n, False).get("median")
                 if ours:
                     ax.fill_between([j + width * 0.5, j + width * 2.5], 2.5 * ours, 3 * ours,
                                     color="black", alpha=0.15, lw=0,
@@ -56,17 +57,19 @@ def plot(rows, out, scale):
         ax.set_title(f"{n:,} points, 1 thread")
         ax.grid(axis="y", alpha=0.3)
         for d in DISTS:
-            ours = s.get(("lfqt-dc", d, n, "", False), {}).get("median")
-            cells = [common.fmt_ratio(common.ratio(s.get((p, d, n, "", False), {}).get("median"), ours))
+            ours = results.cell(s, "lfqt-dc", d, n, False).get("median")
+            cells = [results.fmt_ratio(results.ratio(results.median(s, p, d, n, False), ours))
                      for p in peers[1:]]
             print(f"{n:>11,} {d:12} " + " ".join(f"{c:>20}" for c in cells))
     axes[0][0].legend(fontsize=8)
     fig.suptitle("Paper 1, Fig. 3: single-thread run times (lower is better)")
-    return common.figure_paths(fig, out, "fig3")
+    return figure_paths(fig, out, "fig3")
 
 
-def main(argv=None):
-    return common.main("fig3", __doc__, grid, plot, argv)
+EXPERIMENT = Experiment("fig3", "single-thread times of lfqt, CGAL, Triangle (+ alternating cuts, "
+                        "Qhull) on five distributions", grid, plot,
+                        reproduces=(("Paper 1", "Fig. 3"),), main_job=True)
+main = EXPERIMENT.main
 
 
 if __name__ == "__main__":

@@ -6,8 +6,10 @@ import sys
 
 import numpy as np
 
-from . import common
-from .runner import Cell, cache_sizes, summarize
+from . import results
+from .experiment import Experiment, figure_paths
+from .machine import cache_sizes
+from .runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 SIZES = {"smoke": [1_000, 10_000, 100_000],
@@ -20,16 +22,16 @@ def grid(scale, threads):
     return [Cell("lfqt-dc", d, n, threads=threads) for d in DISTS for n in SIZES[scale]]
 
 
-def plot(rows, out, scale):
+def plot(df, out):
     import matplotlib.pyplot as plt
-    s = summarize(rows)
+    s = results.summarize(df)
     fig, ax = plt.subplots(figsize=(8, 5))
-    print(f"\n{'distribution':12} " + " ".join(f"{n:>10,}" for n in sorted({r['n'] for r in rows}))
+    print(f"\n{'distribution':12} " + " ".join(f"{n:>10,}" for n in sorted(df['n'].unique()))
           + "   (MP/s, from the minimum of the repeats as the paper did)")
     for d in DISTS:
-        ns = sorted({r["n"] for r in rows if r["distribution"] == d})
-        rates = [n / s[("lfqt-dc", d, n, "", False)]["min"] / 1e6
-                 if s.get(("lfqt-dc", d, n, "", False), {}).get("min") else np.nan for n in ns]
+        ns = sorted(df.loc[df["distribution"] == d, "n"].unique())
+        rates = [n / results.cell(s, "lfqt-dc", d, n, False)["min"] / 1e6
+                 if results.cell(s, "lfqt-dc", d, n, False).get("min") else np.nan for n in ns]
         ax.plot(ns, rates, marker="o", label=d)
         print(f"{d:12} " + " ".join(f"{r:10.2f}" for r in rates))
     for name, size in cache_sizes().items():
@@ -46,11 +48,12 @@ def plot(rows, out, scale):
     ax.legend()
     ax.set_title("Paper 1, Fig. 4: rate vs size (published figure has no numbers:\n"
                  "flat with bends at L1/L2 and L3; Grid fastest)", fontsize=10)
-    return common.figure_paths(fig, out, "fig4")
+    return figure_paths(fig, out, "fig4")
 
 
-def main(argv=None):
-    return common.main("fig4", __doc__, grid, plot, argv, repeats=5)
+EXPERIMENT = Experiment("fig4", "lfqt's single-thread rate from 1k points up, cache sizes marked",
+                        grid, plot, reproduces=(("Paper 1", "Fig. 4"),), repeats=5, main_job=True)
+main = EXPERIMENT.main
 
 
 if __name__ == "__main__":

@@ -9,8 +9,9 @@ import sys
 
 import numpy as np
 
-from . import common
-from .runner import Cell, summarize
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
 
 SIZES = {"smoke": [5_000], "default": [100_000], "paper": [100_000, 1_000_000]}
 # (label, ours, CGAL); CGAL's Hilbert here is our Hilbert order through
@@ -25,13 +26,13 @@ COLORS = {"kdtree": "#1b6ca8", "brio": "#d1495b", "hilbert": "#66a182"}
 
 
 def grid(scale, threads):
-    return [Cell(peer, model, n, count=True) for model in TABLES for n in SIZES[scale]
+    return [Cell(peer, model, n, threads=threads, count=True) for model in TABLES for n in SIZES[scale]
             for _, ours, cgal in ORDERS for peer in (ours, cgal)]
 
 
 def per_point(counts, n):
     """(orientation, conflicts) per point from a peer's counts."""
-    o = counts.get("orientation_tests", counts.get("orientation"))
+    o = counts.get("orientation_tests")
     c = counts.get("conflicts")
     return (o / n if o is not None else np.nan, c / n if c is not None else np.nan)
 
@@ -40,25 +41,25 @@ def published_counts():
     """{(model, order, n, metric): value} of Tables 8 to 14."""
     tables = {t: m for m, t in TABLES.items()}
     return {(tables[r["table"]], r["order"], int(r["n"]), r["metric"]): float(r["value"])
-            for r in common.published("liu2013") if r["table"] in tables and r["value"]}
+            for r in results.published("liu2013").to_dict("records") if r["table"] in tables and r["value"]}
 
 
-def plot(rows, out, scale):
+def plot(df, out):
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter
     plain = FuncFormatter(lambda v, _: f"{v:g}")
     sparse = FuncFormatter(lambda v, _: f"{v:g}" if f"{v:g}"[0] in "125" else "")
-    s = summarize(rows)
+    s = results.summarize(df)
     pub = published_counts()
-    models = [m for m in TABLES if any(r["distribution"] == m for r in rows)]
+    models = [m for m in TABLES if m in set(df["distribution"])]
     fig, axes = plt.subplots(2, len(models), figsize=(3.2 * len(models), 6.4), squeeze=False)
     print(f"\n{'model':10} {'n':>9} {'order':8} {'orient/pt lfqt':>15} {'CGAL':>7} {'paper':>7}   "
           f"{'conflicts/pt lfqt':>18} {'CGAL':>7} {'paper':>7}   (paper: nearest published n)")
     for col, model in enumerate(models):
-        ns = sorted({r["n"] for r in rows if r["distribution"] == model})
+        ns = sorted(df.loc[df["distribution"] == model, "n"].unique())
         for label, ours, cgal in ORDERS:
-            po = [per_point(s.get((ours, model, n, "", True), {}).get("counts", {}), n) for n in ns]
-            pc = [per_point(s.get((cgal, model, n, "", True), {}).get("counts", {}), n) for n in ns]
+            po = [per_point(results.cell(s, ours, model, n, True).get("counts", {}), n) for n in ns]
+            pc = [per_point(results.cell(s, cgal, model, n, True).get("counts", {}), n) for n in ns]
             pub_n = sorted({n for (m, o, n, _) in pub if m == model and o == label})
             for k, metric in enumerate(METRICS):
                 ax = axes[k, col]
@@ -88,11 +89,14 @@ def plot(rows, out, scale):
     fig.suptitle("Paper 2, Tables 8-14: per-point counts by insertion order (solid: lfqt, "
                  "dashed: CGAL 5.5, dotted: paper)")
     fig.tight_layout()
-    return common.figure_paths(fig, out, "liu_counts")
+    return figure_paths(fig, out, "liu_counts")
 
 
-def main(argv=None):
-    return common.main("liu_counts", __doc__, grid, plot, argv, repeats=1)
+EXPERIMENT = Experiment("liu_counts", "orientation tests and conflicts per point, seven 3D models, "
+                        "three orders, in CGAL and in lfqt", grid, plot,
+                        reproduces=tuple(("Paper 2", f"Table {k}") for k in range(8, 15)),
+                        repeats=1, main_job=True)
+main = EXPERIMENT.main
 
 
 if __name__ == "__main__":

@@ -11,7 +11,7 @@ import pytest
 import drivers
 import lfqt
 from conftest import triangle_set
-from drivers import peers
+from drivers import cgal
 
 PEERS_2D = drivers.names(2)
 PEERS_3D = drivers.names(3)
@@ -54,7 +54,7 @@ def test_cgal_counts_are_sane(rng):
     pts = rng.random((n, 3))
     rng_order = (rng.permutation(n), np.full(n, -1))
     ranged = drivers.measure(drivers.make("cgal-dt3"), pts, repeats=1, count=True)
-    assert 8 < ranged.counts["orientation"] / n < 20  # paper 2: about 12 per point
+    assert 8 < ranged.counts["orientation_tests"] / n < 20  # paper 2: about 12 per point
     ordered = drivers.measure(drivers.make("cgal-dt3-order"), pts, repeats=1, count=True,
                               order=rng_order)
     assert 5 < ordered.counts["conflicts"] / n < 40
@@ -63,7 +63,7 @@ def test_cgal_counts_are_sane(rng):
 
 
 def test_cgal_unavailable_says_how_to_build(monkeypatch, tmp_path):
-    monkeypatch.setattr(peers, "CGAL_BINARY", tmp_path / "missing")
+    monkeypatch.setattr(cgal, "CGAL_BINARY", tmp_path / "missing")
     ok, why = drivers.available("cgal-dt2")
     assert not ok and "python -m drivers build" in why
 
@@ -113,3 +113,19 @@ def test_isolated_success_returns_measurement(rng):
     out = drivers.measure_isolated(drivers.make("lfqt-dc"), rng.random((500, 2)), repeats=2,
                                    timeout=120)
     assert out.ok and len(out.seconds) == 2 and out.peak_rss_bytes > 0
+
+
+def test_registry_is_the_union_of_the_family_modules():
+    names = [n for fam in drivers.FAMILIES for n in fam.PEERS]
+    assert sorted(names) == sorted(drivers.REGISTRY) and len(set(names)) == len(names)
+    assert {fam.__name__.split(".")[-1] for fam in drivers.FAMILIES} >= {"ours", "cgal",
+                                                                         "triangle", "qhull"}
+    for name in drivers.REGISTRY:
+        peer = drivers.make(name)
+        assert peer.family and peer.estimated_bytes(1000) > 0
+
+
+def test_options_only_where_a_peer_has_them():
+    assert drivers.make("lfqt-dc", threads=2).threads == 2
+    with pytest.raises(ValueError, match="one thread"):
+        drivers.make("triangle", threads=2)

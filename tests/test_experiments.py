@@ -2,15 +2,20 @@
 import json
 
 from experiments import all as all_experiments
-from experiments import bench_dc, runner
+from experiments import bench_dc, results, runner
 from experiments.runner import Cell
+
+
+def load_rows(out_dir):
+    """The tidy results as a list of row dicts."""
+    return results.load(out_dir).to_dict("records")
 
 
 def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
     assert bench_dc.main(["--scale", "smoke", "--repeats", "1", "--rounds", "2",
                           "--peers", "lfqt-dc,triangle", "--out", str(tmp_path), "--quiet",
                           "--no-compile-time"]) == 0
-    rows = runner.load(tmp_path / "bench_dc")
+    rows = load_rows(tmp_path / "bench_dc")
     assert [(r["round"], r["peer"]) for r in rows] == [
         (0, "lfqt-dc"), (0, "triangle"), (1, "lfqt-dc"), (1, "triangle")]
     assert all(r["status"] == "ok" and r["seconds"] > 0 for r in rows)
@@ -29,7 +34,7 @@ def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
     cells = [Cell("lfqt-dc", "uniform", 2000), Cell("triangle", "grid", 2000),
              Cell("lfqt-insert-kdtree", "cube", 1500, count=True)]
     d = runner.run("t", cells, repeats=2, out=tmp_path, progress=False)
-    rows = runner.load(d)
+    rows = load_rows(d)
     assert [r["repeat"] for r in rows if r["peer"] == "lfqt-dc"] == [0, 1]
     assert all(r["status"] == "ok" and r["seconds"] > 0 and r["mpts_per_s"] > 0 for r in rows)
     assert all(r["cycles"] > 0 and r["seconds_at_3ghz"] > 0 for r in rows)
@@ -46,16 +51,16 @@ def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
     after = [json.loads(l) for l in log.read_text().splitlines() if l.startswith('{"key"') and l.endswith("}")]
     kept = {r["key"]: r["outcome"] for r in after if r["key"] in before}
     assert kept == before  # finished cells are not measured again
-    assert len(runner.load(d)) == 5
+    assert len(load_rows(d)) == 5
     meta = json.loads((d / "metadata.json").read_text())
     assert meta["resumed_cells"] == 2
 
 
 def test_failures_are_rows_with_their_reason(tmp_path, monkeypatch):
-    from drivers import peers
-    monkeypatch.setattr(peers, "CGAL_BINARY", tmp_path / "no-driver")
+    from drivers import cgal
+    monkeypatch.setattr(cgal, "CGAL_BINARY", tmp_path / "no-driver")
     cells = [Cell("cgal-dt2", "uniform", 1000), Cell("lfqt-dc", "uniform", 10 ** 12)]
-    rows = runner.load(runner.run("f", cells, repeats=1, out=tmp_path, progress=False))
+    rows = load_rows(runner.run("f", cells, repeats=1, out=tmp_path, progress=False))
     status = {r["peer"]: (r["status"], r["detail"]) for r in rows}
     assert status["cgal-dt2"][0] == "unavailable" and "drivers build" in status["cgal-dt2"][1]
     assert status["lfqt-dc"][0] == "skipped" and "GiB" in status["lfqt-dc"][1]
@@ -67,7 +72,7 @@ def test_main_job_at_smoke_scale(tmp_path, capsys):
     for name in ("fig3", "fig4", "liu_table1", "liu_counts"):
         assert (tmp_path / "figures" / f"{name}.png").stat().st_size > 20000
         assert (tmp_path / "figures" / f"{name}.svg").exists()
-        rows = runner.load(tmp_path / name)
+        rows = load_rows(tmp_path / name)
         bad = [(r["peer"], r["status"], r["detail"][:80]) for r in rows if r["status"] != "ok"]
         assert not bad, bad
     assert "paper at 100k: 2.5x-3x" in text and "conflicts/pt" in text
@@ -80,7 +85,7 @@ def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, c
     from experiments import bench_insert
     assert bench_insert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
                               "--repeats", "1"]) == 0
-    rows = runner.load(tmp_path / "bench_insert")
+    rows = load_rows(tmp_path / "bench_insert")
     assert {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"} == {
         (peer, dist) for _, dist, ours, cgal in bench_insert.SETUPS for peer in [ours] + cgal}
     assert (tmp_path / "figures" / "bench_insert.png").stat().st_size > 20000
@@ -89,7 +94,7 @@ def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, c
 
 def test_rounds_repeat_timed_cells_but_not_deterministic_counts(tmp_path):
     cells = [Cell("lfqt-dc", "uniform", 1000), Cell("lfqt-insert-kdtree", "cube", 800, count=True)]
-    rows = runner.load(runner.run("r", cells, repeats=1, rounds=3, out=tmp_path, progress=False))
+    rows = load_rows(runner.run("r", cells, repeats=1, rounds=3, out=tmp_path, progress=False))
     assert sorted(r["round"] for r in rows if not r["count"]) == [0, 1, 2]
     assert [r["round"] for r in rows if r["count"]] == [0]
     # round 0 keeps the key format of sweeps from before rounds existed: they resume

@@ -1,0 +1,76 @@
+"""Our peers: lfqt's divide and conquer (and its alternating-cuts ablation),
+and lfqt's incremental insertion in every order of lfqt.orders."""
+import numpy as np
+
+import lfqt
+from lfqt.orders import ORDERS
+
+from .base import Peer, Result
+
+
+def _result(tri):
+    counts = dict(tri.stats.get("counts", {}))
+    counts.update({f"seconds_{k}": v for k, v in tri.stats["seconds"].items()})
+    return Result(tri.simplices, counts)
+
+
+class LfqtDC(Peer):
+    family = "ours"
+    options = ("threads",)
+    bytes_per_point = 300
+
+    def __init__(self, subdivision="lfqt"):
+        self.subdivision = subdivision
+        self.threads = 1
+        self.name = "lfqt-dc" if subdivision == "lfqt" else f"lfqt-dc-{subdivision}"
+
+    def version(self):
+        return lfqt.__version__
+
+    def prepare(self, points, order=None, count=False):
+        self.points = np.ascontiguousarray(points)
+        self.count = count
+        self.tri = None
+        lfqt.triangulate(self.points[:64], subdivision=self.subdivision)  # JIT warm-up
+
+    def run(self):
+        self.tri = None  # the previous result must not inflate this run's peak memory
+        self.tri = lfqt.triangulate(self.points, subdivision=self.subdivision,
+                                    threads=self.threads, counters=self.count)
+
+    def result(self):
+        return _result(self.tri)
+
+
+class LfqtInsert(Peer):
+    """lfqt.insert in a given order; the order is built inside the timed run,
+    as paper 2's times include it."""
+    family = "ours"
+    dims = (2, 3)
+    bytes_per_point = 1200
+
+    def __init__(self, order):
+        self.order = order
+        self.name = f"lfqt-insert-{order}"
+        self.dim = 3
+
+    def version(self):
+        return lfqt.__version__
+
+    def prepare(self, points, order=None, count=False):
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.dim = self.points.shape[1]
+        self.tri = None
+        lfqt.insert(self.points[:64], order=self.order)  # JIT warm-up
+
+    def run(self):
+        self.tri = None
+        self.tri = lfqt.insert(self.points, order=self.order)
+
+    def result(self):
+        return _result(self.tri)
+
+
+PEERS = {"lfqt-dc": lambda: LfqtDC("lfqt"),
+         "lfqt-dc-alternating": lambda: LfqtDC("alternating")}
+PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})

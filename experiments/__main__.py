@@ -1,0 +1,20 @@
+"""python -m experiments --list   every published figure and table of both
+papers, with the command that regenerates it, and the benchmarks."""
+import argparse
+import sys
+
+from .registry import PAPERS, listing
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m experiments", description=__doc__)
+    ap.add_argument("--list", action="store_true", help="list the experiments (the default)")
+    ap.parse_args(argv)
+    for key, paper in PAPERS.items():
+        print(f"# {key}: {paper}")
+    print(listing())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

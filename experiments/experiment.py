@@ -1,0 +1,105 @@
+"""What an experiment is: a name, the published figures and tables it
+regenerates, a grid of cells and a plot drawn from stored results only.
+``Experiment.main`` is the command line every experiment shares."""
+import argparse
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from . import results, runner
+
+SCALES = ("smoke", "default", "paper")
+# Per-cell limit (child process: warm-up and repeats).  A peer that is
+# pathological on a set (Qhull on nearly cocircular points) is recorded as a
+# timeout, as paper 1 recorded Triangle failing at 100M points.
+TIMEOUTS = {"smoke": 60.0, "default": 120.0, "paper": 1800.0}
+
+
+@dataclass(frozen=True)
+class Experiment:
+    name: str
+    title: str
+    grid: Callable    # (scale, threads) -> [runner.Cell]
+    plot: Callable    # (results DataFrame, out dir) -> [figure paths]; prints its table
+    reproduces: tuple = ()  # published items, as in experiments.registry.PUBLISHED
+    repeats: int = 3
+    rounds: int = 1
+    options: tuple = ()  # extra (flag, argparse keywords)
+    setup: Callable = None  # (args, out_dir) before the grid is measured
+    main_job: bool = False  # part of ``python -m experiments.all``
+
+    @property
+    def command(self):
+        return f"python -m experiments.{self.name}"
+
+    def cells(self, args):
+        """The grid at ``args.scale``, narrowed by --peers, --sizes, --dists."""
+        cells = self.grid(args.scale, args.threads)
+        for flag, field in (("peers", "peer"), ("sizes", "n"), ("dists", "distribution")):
+            wanted = getattr(args, flag)
+            if wanted:
+                known = {getattr(c, field) for c in cells}
+                unknown = [w for w in wanted if w not in known]
+                if unknown:
+                    raise SystemExit(f"{self.command}: --{flag} {','.join(map(str, unknown))} is "
+                                     f"not in this experiment's {args.scale} grid (it has "
+                                     f"{', '.join(map(str, sorted(known)))})")
+                cells = [c for c in cells if getattr(c, field) in wanted]
+        for c in cells:
+            try:
+                runner.check(c)
+            except ValueError as e:
+                raise SystemExit(f"{self.command}: {e}") from None
+        return cells
+
+    def main(self, argv=None):
+        """Parse the common options, run the grid through the runner (unless
+        --plot-only), then draw the figure from the stored results."""
+        ap = argparse.ArgumentParser(prog=self.command, description=sys.modules[
+            self.plot.__module__].__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+        ap.add_argument("--scale", choices=SCALES, default="default")
+        ap.add_argument("--threads", type=int, default=1,
+                        help="threads for the peers that take them (an error for the others)")
+        ap.add_argument("--peers", type=lambda s: s.split(","), help="registry keys, comma separated")
+        ap.add_argument("--repeats", type=int, default=self.repeats,
+                        help="timed runs per cell and round")
+        ap.add_argument("--rounds", type=int, default=self.rounds,
+                        help="measure the whole grid this many times, interleaving the peers in time")
+        ap.add_argument("--sizes", type=lambda s: [int(float(v)) for v in s.split(",")],
+                        help="keep only these sizes of the scale's grid, e.g. 1e5,1e6")
+        ap.add_argument("--dists", type=lambda s: s.split(","),
+                        help="keep only these distributions, comma separated")
+        ap.add_argument("--force", action="store_true", help="measure finished cells again")
+        ap.add_argument("--out", default="results")
+        ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")
+        ap.add_argument("--quiet", action="store_true", help="no progress bar")
+        ap.add_argument("--timeout", type=float, help="seconds per cell (default by scale)")
+        for flag, kwargs in self.options:
+            ap.add_argument(flag, **kwargs)
+        args = ap.parse_args(argv)
+        out_dir = Path(args.out) / self.name
+        if not args.plot_only:
+            cells = self.cells(args)
+            if self.setup:
+                self.setup(args, out_dir)
+            runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=args.out,
+                       force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
+                       progress=not args.quiet, extra_metadata={"scale": args.scale},
+                       command=" ".join([self.command] + list(argv if argv is not None
+                                                               else sys.argv[1:])))
+        import matplotlib
+        matplotlib.use("Agg")
+        for p in self.plot(results.load(out_dir), args.out):
+            print(p)
+        return 0
+
+
+def figure_paths(fig, out, name):
+    """Save ``fig`` as results/figures/<name>.png and .svg; returns the paths."""
+    d = Path(out) / "figures"
+    d.mkdir(parents=True, exist_ok=True)
+    paths = [d / f"{name}.png", d / f"{name}.svg"]
+    for p in paths:
+        fig.savefig(p, dpi=120, bbox_inches="tight")
+    return paths

@@ -1,0 +1,47 @@
+"""The one registry of experiments: every module of this package that
+declares an ``EXPERIMENT`` (experiments.experiment.Experiment), and the
+catalogue of the papers' published figures and tables they regenerate."""
+import importlib
+import pkgutil
+
+_NOT_EXPERIMENTS = {"__main__", "all", "experiment", "machine", "registry", "results", "runner"}
+
+# Every result of both papers, in the papers' order.
+PUBLISHED = ([("Paper 1", f"Fig. {k}") for k in (1, 3, 4, 5, 6, 7)] + [("Paper 1", "Table 1")]
+             + [("Paper 2", f"Table {k}") for k in range(1, 18)])
+PAPERS = {"Paper 1": "Fuetterling, Lojewski and Pfreundt 2014 (fqDel)",
+          "Paper 2": "Liu, Yan and Lo 2013 (Kd-tree insertion order)"}
+
+
+def experiments():
+    """{name: Experiment} of every experiment module, in name order."""
+    import experiments as package
+    found = {}
+    for m in pkgutil.iter_modules(package.__path__):
+        if m.name in _NOT_EXPERIMENTS:
+            continue
+        mod = importlib.import_module(f"{package.__name__}.{m.name}")
+        if hasattr(mod, "EXPERIMENT"):
+            found[mod.EXPERIMENT.name] = mod.EXPERIMENT
+    return found
+
+
+def main_job():
+    """The experiments ``python -m experiments.all`` runs."""
+    return [e for e in experiments().values() if e.main_job]
+
+
+def listing():
+    """One line per published figure or table and the command that
+    regenerates it, then the benchmarks."""
+    exps = experiments()
+    by_item = {item: e for e in exps.values() for item in e.reproduces}
+    lines = []
+    for item in PUBLISHED:
+        e = by_item.get(item)
+        what = f"{e.command:34s} {e.title}" if e else "(not reproduced yet)"
+        lines.append(f"{item[0]} {item[1]:9s} {what}")
+    for e in exps.values():
+        if not e.reproduces:
+            lines.append(f"{'benchmark':17s} {e.command:34s} {e.title}")
+    return "\n".join(lines)

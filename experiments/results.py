@@ -1,0 +1,124 @@
+"""Results: tidy rows (one per measurement) written as CSV with a metadata
+sidecar, loaded back as a typed pandas DataFrame, and the derived numbers
+(summaries, ratios, rates) defined once, for the figures, the report and
+the notebooks alike."""
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+NOMINAL_HZ = 3.0e9  # paper 1 normalises cycle counts to 3 GHz
+PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
+FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed", "count",
+          "round", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz",
+          "mpts_per_s", "peak_bytes", "bytes_per_point", "version", "counts"]
+INTS = ("n", "threads", "seed", "round", "repeat")
+FLOATS = ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes", "bytes_per_point")
+CELL = ["peer", "distribution", "n", "count"]  # what a summary groups by
+
+
+def atomic_write(path, text):
+    """Write ``text`` to ``path`` through a synced temporary file."""
+    path = Path(path)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    with open(tmp, "w") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def rows_for(cell, experiment, outcome):
+    """The tidy rows of one measured cell: one per timed repeat, or one row
+    with the failure's status and reason."""
+    base = dict(experiment=experiment, **cell.fields())
+    if outcome.get("status") != "ok":
+        return [dict(base, repeat=0, status=outcome["status"], detail=outcome.get("detail", ""))]
+    rows = []
+    for k, (sec, cyc) in enumerate(zip(outcome["seconds"], outcome["cycles"])):
+        rows.append(dict(base, repeat=k, status="ok", detail="", seconds=sec, cycles=cyc,
+                         seconds_at_3ghz=cyc / NOMINAL_HZ if cyc else None,
+                         mpts_per_s=rate(cell.n, sec), peak_bytes=outcome["peak_bytes"],
+                         bytes_per_point=outcome["peak_bytes"] / max(cell.n, 1),
+                         version=outcome["version"], counts=json.dumps(outcome["counts"])))
+    return rows
+
+
+def write(out_dir, rows):
+    """results.csv of ``rows``, atomically."""
+    frame = pd.DataFrame(rows, columns=FIELDS)
+    atomic_write(Path(out_dir) / "results.csv", frame.to_csv(index=False))
+
+
+def load(out_dir):
+    """The tidy results of an experiment as a DataFrame: typed columns, and
+    ``counts`` parsed into dicts."""
+    df = pd.read_csv(Path(out_dir) / "results.csv", keep_default_na=False,
+                     na_values={c: [""] for c in FLOATS})
+    if "round" not in df:  # results from before rounds existed
+        df["round"] = 0
+    for c in INTS:
+        df[c] = pd.to_numeric(df[c], errors="coerce").fillna(0).astype(np.int64)
+    for c in FLOATS:
+        df[c] = pd.to_numeric(df[c], errors="coerce")
+    df["count"] = df["count"].astype(str) == "True"
+    df["counts"] = [json.loads(c) if c else {} for c in df["counts"].astype(str)]
+    df["detail"] = df["detail"].astype(str)
+    return df
+
+
+def metadata(out_dir):
+    path = Path(out_dir) / "metadata.json"
+    return json.loads(path.read_text()) if path.exists() else {}
+
+
+def summarize(df, by=CELL):
+    """One row per cell (grouped by ``by``), pooled over rounds and repeats:
+    status and detail of its first row, median and min seconds of the ok
+    repeats, its counts and bytes per point."""
+    def one(g):
+        ok = g.loc[g["status"] == "ok", "seconds"].dropna()
+        return pd.Series({"status": g["status"].iloc[0], "detail": g["detail"].iloc[0],
+                          "median": float(ok.median()) if len(ok) else None,
+                          "min": float(ok.min()) if len(ok) else None,
+                          "runs": int(len(ok)), "counts": g["counts"].iloc[0],
+                          "bytes_per_point": g["bytes_per_point"].iloc[0]})
+    if df.empty:
+        return pd.DataFrame(columns=["status", "detail", "median", "min", "runs", "counts",
+                                     "bytes_per_point"])
+    return df.groupby(list(by), sort=False).apply(one, include_groups=False)
+
+
+def cell(summary, *key):
+    """The summary row of ``key`` (in the order of ``by``) as a dict; {} when
+    the cell was not measured."""
+    try:
+        row = summary.loc[tuple(key)].to_dict()
+    except KeyError:
+        return {}
+    return {k: None if isinstance(v, float) and v != v else v for k, v in row.items()}
+
+
+def median(summary, *key):
+    return cell(summary, *key).get("median")
+
+
+def ratio(a, b):
+    """a / b, NaN when either is missing."""
+    return a / b if a and b else float("nan")
+
+
+def fmt_ratio(x):
+    return "-" if x != x else f"{x:.2f}x"
+
+
+def rate(n, seconds):
+    """Million points per second."""
+    return n / seconds / 1e6 if seconds else None
+
+
+def published(name):
+    """results/published/<name>.csv as a DataFrame (strings kept as given)."""
+    return pd.read_csv(PUBLISHED / f"{name}.csv", dtype=str, keep_default_na=False)
