@@ -5,16 +5,29 @@ import sys
 from . import REGISTRY, available, build, make
 
 
+def cpu():
+    """The CPU's model name, from /proc/cpuinfo."""
+    try:
+        return next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
+                    if line.startswith("model name"))
+    except (OSError, StopIteration):
+        return "unknown CPU"
+
+
 def main(argv):
     cmd = argv[0] if argv else "list"
     if cmd == "build":
         return build()
     if cmd == "list":
+        print(f"# {cpu()}")
         for name in REGISTRY:
             ok, why = available(name)
             peer = make(name)
             dims = "/".join(f"{d}D" for d in peer.dims)
-            print(f"{name:30s} {dims:6s} {peer.family:9s} {'ok' if ok else 'unavailable: ' + why}")
+            info = peer.build_info()
+            built = f"  [{info['version']}; {info['compiler']} {info['flags']}]" if info else ""
+            print(f"{name:30s} {dims:6s} {peer.family:15s} "
+                  f"{'ok' if ok else 'unavailable: ' + why}{built}")
         return 0
     print(__doc__, file=sys.stderr)
     return 2

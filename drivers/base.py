@@ -80,3 +80,72 @@ class Peer:
 
     def __repr__(self):
         return f"<peer {self.name}>"
+
+
+class CompiledPeer(Peer):
+    """A peer run as one of our compiled drivers in its own process: the
+    points go in as a .npy file, the driver times the operation itself
+    (wall clock and TSC, file I/O outside) and prints one JSON line; the
+    simplices come back as a .npy file.  Subclasses give the binary and the
+    arguments, and map the report's counts."""
+    binary = None  # Path
+
+    def check(self):
+        if self.binary is None or not self.binary.exists():
+            raise Unavailable(f"{self.name}: driver not built at {self.binary}: {self.install}")
+
+    def arguments(self, points_path, count):
+        """The driver's command line after the binary."""
+        raise NotImplementedError
+
+    def counts(self, report):
+        """The report's counts in lfqt.predicates.counters' vocabulary."""
+        return {}
+
+    def build_info(self):
+        info_path = self.binary.parent / "build_info.json" if self.binary else None
+        if info_path is None or not info_path.exists():
+            return {}
+        import json
+        return json.loads(info_path.read_text())
+
+    def version(self):
+        return self.build_info().get("version", "")
+
+    def prepare(self, points, order=None, count=False):
+        import os
+        import tempfile
+
+        import numpy as np
+        self.check()
+        self.tmp = tempfile.mkdtemp(prefix=f"lfqt-{self.family}-")
+        points_path = os.path.join(self.tmp, "points.npy")
+        np.save(points_path, np.ascontiguousarray(points, dtype=np.float64))
+        self.out_path = os.path.join(self.tmp, "simplices.npy")
+        self.command = [str(self.binary)] + self.arguments(points_path, count) + ["--out",
+                                                                                  self.out_path]
+        self.extra_seconds = 0.0  # work of ours inside the timed run (an order we build)
+
+    def run(self):
+        import json
+        import subprocess
+        proc = subprocess.run(self.command, capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"{self.binary.name} failed ({proc.returncode}): "
+                               f"{proc.stderr.strip()}")
+        self.report = json.loads(proc.stdout.strip().splitlines()[-1])
+
+    def self_timing(self):
+        return self.report["seconds"] + self.extra_seconds, self.report["tsc_cycles"]
+
+    def self_memory(self):
+        """Peak resident bytes of the driver above its state after loading."""
+        return max(self.report["peak_rss_bytes"] - self.report["baseline_rss_bytes"], 0)
+
+    def result(self):
+        import shutil
+
+        import numpy as np
+        simplices = np.load(self.out_path)
+        shutil.rmtree(self.tmp, ignore_errors=True)
+        return Result(simplices, self.counts(self.report), {"tsc_cycles": self.report["tsc_cycles"]})

@@ -8,6 +8,13 @@ from lfqt.orders import ORDERS
 from .base import Peer, Result
 
 
+def _build_info():
+    import numba
+    return {"library": "lfqt", "version": f"lfqt {lfqt.__version__}",
+            "compiler": f"numba {numba.__version__} (LLVM)",
+            "flags": "compiled for the host CPU (numba's default target, no fastmath)"}
+
+
 def _result(tri):
     counts = dict(tri.stats.get("counts", {}))
     counts.update({f"seconds_{k}": v for k, v in tri.stats["seconds"].items()})
@@ -26,6 +33,9 @@ class LfqtDC(Peer):
 
     def version(self):
         return lfqt.__version__
+
+    def build_info(self):
+        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points)
@@ -56,6 +66,9 @@ class LfqtInsert(Peer):
 
     def version(self):
         return lfqt.__version__
+
+    def build_info(self):
+        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points, dtype=np.float64)

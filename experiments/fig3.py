@@ -10,7 +10,8 @@ from .experiment import Experiment, figure_paths
 from .runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
-PEERS = ["lfqt-dc", "cgal-dt2", "triangle", "lfqt-dc-alternating", "qhull-2d"]
+PEERS = ["lfqt-dc", "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle",
+         "lfqt-dc-alternating", "qhull-2d"]
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 10_000_000, 100_000_000]}
 # Qhull takes ~13 s per 1M uniform points and far longer on Circle; the smoke
@@ -30,7 +31,8 @@ def plot(df, out):
     sizes = sorted(df["n"].unique())
     peers = [p for p in PEERS if p in set(df["peer"])]
     fig, axes = plt.subplots(1, len(sizes), figsize=(6.5 * len(sizes), 4.8), squeeze=False)
-    colors = dict(zip(PEERS, ["#1b6ca8", "#d1495b", "#edae49", "#66a182", "#8d8d8d"]))
+    colors = dict(zip(PEERS, ["#1b6ca8", "#d1495b", "#f08a8a", "#edae49", "#f5d49a", "#66a182",
+                              "#8d8d8d"]))
     print(f"\n{'n':>11} {'distribution':12} " + " ".join(f"{p:>20}" for p in peers[1:])
           + "   (median time of peer / lfqt-dc; paper at 100k: 2.5x-3x for CGAL and Triangle)")
     for ax, n in zip(axes[0], sizes):
@@ -61,6 +63,11 @@ def plot(df, out):
             cells = [results.fmt_ratio(results.ratio(results.median(s, p, d, n, False), ours))
                      for p in peers[1:]]
             print(f"{n:>11,} {d:12} " + " ".join(f"{c:>20}" for c in cells))
+            for family, variants in results.VARIANTS_2D.items():
+                best, t = results.fastest(s, variants, d, n, False)
+                if best:
+                    print(f"{'':>11} {'':12} headline: {family} at its fastest ({best}) "
+                          f"{results.fmt_ratio(results.ratio(t, ours))}")
     axes[0][0].legend(fontsize=8)
     fig.suptitle("Paper 1, Fig. 3: single-thread run times (lower is better)")
     return figure_paths(fig, out, "fig3")

@@ -11,11 +11,7 @@ def machine_info():
     """CPU model, caches, cores, library versions, commit."""
     info = {"python": platform.python_version(), "platform": platform.platform(),
             "cores": os.cpu_count()}
-    try:
-        info["cpu"] = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
-                           if line.startswith("model name"))
-    except (OSError, StopIteration):
-        info["cpu"] = platform.processor()
+    info.update(cpu_details())
     info["caches"] = cache_sizes()
     try:
         info["memory_bytes"] = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
@@ -34,6 +30,28 @@ def machine_info():
     except OSError:
         pass
     return info
+
+
+def cpu_details():
+    """The CPU as /proc/cpuinfo names it: model name, vendor, family, model,
+    stepping, and the vector extensions that matter for -march=native."""
+    fields = {}
+    try:
+        for line in open("/proc/cpuinfo"):
+            if ":" in line:
+                k, v = (x.strip() for x in line.split(":", 1))
+                fields.setdefault(k, v)
+            elif fields:
+                break  # the first processor is enough
+    except OSError:
+        return {"cpu": platform.processor()}
+    flags = set(fields.get("flags", "").split())
+    return {"cpu": fields.get("model name", platform.processor()),
+            "cpu_vendor": fields.get("vendor_id", ""),
+            "cpu_family_model_stepping": "/".join(fields.get(k, "?") for k in
+                                                  ("cpu family", "model", "stepping")),
+            "cpu_isa": sorted(flags & {"sse4_2", "avx", "avx2", "fma", "bmi2", "avx512f",
+                                       "avx512vl", "amx_tile"})}
 
 
 def cache_sizes():

@@ -17,6 +17,9 @@ FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed",
 INTS = ("n", "threads", "seed", "round", "repeat")
 FLOATS = ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes", "bytes_per_point")
 CELL = ["peer", "distribution", "n", "count"]  # what a summary groups by
+# The variants of each 2D peer family; a headline ratio is against the
+# fastest variant measured in the same run, and names it.
+VARIANTS_2D = {"CGAL": ("cgal-dt2", "cgal-dt2-indexed"), "Triangle": ("triangle-native", "triangle")}
 
 
 def atomic_write(path, text):
@@ -103,6 +106,14 @@ def cell(summary, *key):
 
 def median(summary, *key):
     return cell(summary, *key).get("median")
+
+
+def fastest(summary, peers, *key):
+    """(peer, median) of the fastest of ``peers`` in the cell ``key`` (the
+    summary's key without its peer), or (None, None) when none has a time:
+    a headline ratio is always against a peer's fastest variant."""
+    times = [(m, p) for p in peers if (m := median(summary, p, *key))]
+    return (min(times)[1], min(times)[0]) if times else (None, None)
 
 
 def ratio(a, b):

@@ -86,6 +86,15 @@ def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
             "peak_bytes": m.extra_peak_bytes, "version": m.version, "counts": m.counts}
 
 
+def peer_builds(names):
+    """{peer: its version and, for a compiled peer, compiler, flags and library}."""
+    out = {}
+    for name in sorted(names):
+        peer = drivers.make(name)
+        out[name] = {"version": peer.version(), **peer.build_info()}
+    return out
+
+
 def _done(log):
     """{cell key: record} of a log; a line cut by a crash is measured again."""
     done = {}
@@ -130,7 +139,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     meta = dict(experiment=experiment, command=command or " ".join(sys.argv),
                 date=time.strftime("%Y-%m-%d %H:%M:%S %z"), repeats=repeats, rounds=rounds,
                 cells=len(cells), resumed_cells=len(cells) - len(todo), **(extra_metadata or {}),
-                **machine_info())
+                peers=peer_builds({c.peer for c in cells}), **machine_info())
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = _progress(experiment, len(todo)) if progress and todo else None
     with open(log, "a") as f:

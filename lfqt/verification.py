@@ -20,6 +20,7 @@ import numpy as np
 from numba import njit
 
 from ._input import exact_coordinates2d, exact_points3
+from .triangulation import Triangulation
 from .predicates.counters import N_PREDICATE, incircle, orient2d
 from .predicates.planar import CCW_A, ICC_A
 from .predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
@@ -442,3 +443,49 @@ def _verify_3d(P, tri):
             {tuple(np.roll(f, -int(np.argmin(f)))) for f in hull.tolist()}
         _problem(problems, checks, "hull", not same, "hull facets differ from the boundary faces")
     return VerifyReport(not problems, checks, problems, counts)
+
+
+def mesh_from_simplices(simplices, n):
+    """A Triangulation of ``n`` points from bare ``simplices`` (another
+    library's output, such as CGAL's or Triangle's): neighbours by matching
+    faces, and the hull (2D: the counter-clockwise loop of boundary edges;
+    3D: the unmatched outward faces), so that :func:`verify` can check it.
+    Faces that do not pair up are left for verify to reject."""
+    s = np.asarray(simplices, dtype=np.int64)
+    m, width = s.shape if s.ndim == 2 else (0, 3)
+    if width == 3:
+        # face i of triangle t is the directed edge v[i+1] -> v[i+2]; its twin runs back
+        a, b = s[:, [1, 2, 0]].ravel(), s[:, [2, 0, 1]].ravel()
+        own, twin = a * n + b, b * n + a
+    else:
+        faces = _oriented_faces(s)
+        srt = np.sort(faces, axis=1)
+        key = (srt[:, 0] * n + srt[:, 1]) * n + srt[:, 2]
+        own = twin = key
+    order = np.argsort(own, kind="stable")
+    pos = np.searchsorted(own[order], twin)
+    pos = np.minimum(pos, max(len(order) - 1, 0))
+    hit = order[pos] if len(order) else pos
+    found = (own[hit] == twin) if len(order) else np.zeros(0, bool)
+    if width == 4:  # the same sorted face in another cell
+        other = np.where(hit // 4 == np.arange(len(own)) // 4,
+                         order[np.minimum(pos + 1, len(order) - 1)], hit)
+        found = found & (own[other] == own) & (other // 4 != np.arange(len(own)) // 4)
+        hit = other
+    neighbors = np.where(found, hit // width, -1).reshape(m, width)
+    if width == 4:
+        hull = faces[~found]
+    else:
+        nxt = dict(zip(a[~found].tolist(), b[~found].tolist()))
+        hull = []
+        if nxt:
+            start = next(iter(nxt))
+            v = start
+            while len(hull) <= len(nxt):
+                hull.append(v)
+                v = nxt.get(v, start)
+                if v == start:
+                    break
+        hull = np.array(hull, dtype=np.int64)
+    return Triangulation(points=None, simplices=s, neighbors=neighbors, hull=hull,
+                         duplicate_of=np.arange(n), degenerate=m == 0)

@@ -129,3 +129,62 @@ def test_options_only_where_a_peer_has_them():
     assert drivers.make("lfqt-dc", threads=2).threads == 2
     with pytest.raises(ValueError, match="one thread"):
         drivers.make("triangle", threads=2)
+
+
+COMPILED = [n for n in drivers.REGISTRY if n.startswith(("cgal-", "triangle-native"))
+            and not n.endswith("-order") and "-incremental" not in n]
+
+
+@pytest.mark.parametrize("name", COMPILED)
+def test_compiled_peer_output_verifies_exactly(name, rng):
+    require(name)
+    from lfqt.verification import mesh_from_simplices
+    dim = drivers.make(name).dim
+    pts = rng.random((10_000, dim))
+    m = drivers.measure(drivers.make(name), pts, repeats=1, keep_simplices=True)
+    report = lfqt.verify(pts, mesh_from_simplices(m.simplices, len(pts)))
+    assert report.ok, report.problems
+
+
+@pytest.mark.parametrize("name", ["cgal-dt2", "cgal-dt3", "triangle-native"])
+def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
+    """Fidelity: through the harness (child process, limits) a compiled peer
+    takes what its own binary takes run alone on the same file (medians of
+    interleaved runs, within 10%)."""
+    require(name)
+    import json
+    import subprocess
+    peer = drivers.make(name)
+    pts = rng.random((200_000 if peer.dim == 2 else 60_000, peer.dim))
+    path = tmp_path / "points.npy"
+    np.save(path, pts)
+    alone, harness = [], []
+    for _ in range(5):
+        cmd = [str(peer.binary)] + peer.arguments(str(path), False)
+        out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+        alone.append(json.loads(out.strip().splitlines()[-1])["seconds"])
+        m = drivers.measure_isolated(drivers.make(name), pts, repeats=1, timeout=120)
+        assert m.ok, m
+        harness.append(m.seconds[0])
+    ratio = np.median(harness) / np.median(alone)
+    assert 0.9 < ratio < 1.1, (harness, alone)
+
+
+def test_triangle_native_counts_what_its_filter_leaves_undecided():
+    require("triangle-native")
+    g = np.stack(np.meshgrid(np.arange(60.0), np.arange(60.0)), -1).reshape(-1, 2)
+    grid = drivers.measure(drivers.make("triangle-native"), g, repeats=1)
+    uniform = drivers.measure(drivers.make("triangle-native"),
+                              np.random.default_rng(0).random((3600, 2)), repeats=1)
+    c = grid.counts
+    assert 0 < c["incircle_stage1_undecided"] < c["incircle_tests"]  # cocircular grid cells
+    assert c["orientation_tests"] > len(g) and uniform.counts["incircle_stage1_undecided"] == 0
+
+
+def test_triangle_source_edits_apply_once_or_fail_loudly():
+    from drivers import triangle_native
+    text = "".join(old for old, _ in triangle_native.EDITS)
+    counted = triangle_native.counted_source(text)
+    assert counted.count("lfqt_orient_undecided++;") == 1 and "long lfqt_orient_calls" in counted
+    with pytest.raises(ValueError, match="expected 1"):
+        triangle_native.counted_source(text + text)

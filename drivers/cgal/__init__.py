@@ -8,7 +8,6 @@ find_conflicts + insert_in_hole (paper 2's method).
 """
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -19,22 +18,34 @@ import numpy as np
 
 from lfqt.orders import ORDERS
 
-from ..base import Peer, Result, Unavailable
+from ..base import CompiledPeer
 
 CGAL_DIR = Path(__file__).resolve().parent
 BUILD_DIR = CGAL_DIR / "build"
 CGAL_BINARY = Path(os.environ.get("LFQT_CGAL_DRIVER", BUILD_DIR / "cgal_driver"))
+TBB_BINARY = CGAL_BINARY.parent / "cgal_driver_tbb"
 APT = "libcgal-dev libgmp-dev libmpfr-dev cmake"
 INSTALL = f"as root: apt-get install -y {APT}; then python -m drivers build"
 
 
 def build():
-    """Build the driver (cmake, Release); returns the exit code."""
+    """Build the drivers (cmake, Release) and record what they were built
+    with in build/build_info.json; returns the exit code."""
     BUILD_DIR.mkdir(exist_ok=True)
     try:
         subprocess.run(["cmake", "-S", str(CGAL_DIR), "-B", str(BUILD_DIR),
                         "-DCMAKE_BUILD_TYPE=Release"], check=True, stdout=subprocess.DEVNULL)
         subprocess.run(["cmake", "--build", str(BUILD_DIR), "-j", "2"], check=True)
+        with tempfile.TemporaryDirectory() as tmp:
+            probe = os.path.join(tmp, "probe.npy")
+            np.save(probe, np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+            out = subprocess.run([str(CGAL_BINARY), "dt2", probe], check=True,
+                                 capture_output=True, text=True).stdout
+        report = json.loads(out.strip().splitlines()[-1])
+        info = {"library": "CGAL", "version": "CGAL " + report["cgal_version"],
+                "compiler": report["compiler"], "flags": report["flags"],
+                "parallel": TBB_BINARY.exists()}
+        (BUILD_DIR / "build_info.json").write_text(json.dumps(info, indent=2))
     except (OSError, subprocess.CalledProcessError) as e:
         print(f"building the CGAL driver failed: {e}\nIt needs Debian's {APT}; {INSTALL}",
               file=sys.stderr)
@@ -43,47 +54,41 @@ def build():
     return 0
 
 
-class CgalPeer(Peer):
-    """One operation of the driver: range insertion (dt2, dt3) or insertion
-    one point at a time in an order with hints (dt2-order, dt3-order: the
-    caller's order, or ``order_name`` built inside the timed run)."""
+class CgalPeer(CompiledPeer):
+    """One operation of the driver (driver.cpp): plain range insertion (dt2,
+    dt3: CGAL at its fastest), range insertion with vertex info (dt2-indexed,
+    dt3-indexed), parallel 3D range insertion (dt3-parallel, TBB), or
+    insertion one point at a time in an order with hints (dt2-order,
+    dt3-order: the caller's order, or ``order_name`` built inside the timed
+    run, as paper 2 includes it)."""
     family = "cgal"
     install = INSTALL
 
     def __init__(self, op, order_name=None):
         self.op = op
         self.dim = 2 if op.startswith("dt2") else 3
-        self.order_name = order_name  # build this order (lfqt.orders) inside the timed run
+        self.order_name = order_name
         self.name = f"cgal-{op[:3]}-{order_name}" if order_name else f"cgal-{op}"
         self.bytes_per_point = 400 if self.dim == 2 else 1200
+        self.binary = TBB_BINARY if op == "dt3-parallel" else CGAL_BINARY
+        self.options = ("threads",) if op == "dt3-parallel" else ()
+        self.threads = 1
 
-    def check(self):
-        if not CGAL_BINARY.exists():
-            raise Unavailable(f"CGAL driver not built at {CGAL_BINARY}: run 'python -m drivers "
-                              f"build' (needs Debian's {APT})")
-
-    def version(self):
-        return "CGAL " + getattr(self, "_version", "")
-
-    def prepare(self, points, order=None, count=False):
-        self.check()
-        self.tmp = tempfile.mkdtemp(prefix="lfqt-cgal-")
-        self.points_path = os.path.join(self.tmp, "points.npy")
-        np.save(self.points_path, np.ascontiguousarray(points, dtype=np.float64))
-        self.args = [str(CGAL_BINARY), self.op, self.points_path]
-        self.points = points
-        self.order_seconds = 0.0
+    def arguments(self, points_path, count):
+        args = [self.op, points_path, "--threads", str(self.threads)]
         if self.op.endswith("-order"):
-            if order is None and self.order_name is None:
+            if self._order is None and self.order_name is None:
                 raise ValueError(f"{self.name} needs an insertion order")
             self.order_path = os.path.join(self.tmp, "order.npy")
-            if order is not None:
-                self._write_order(order)
-            self.args += ["--order", self.order_path]
-        if count:
-            self.args.append("--count")
-        self.out_path = os.path.join(self.tmp, "simplices.npy")
-        self.args += ["--out", self.out_path]
+            if self._order is not None:
+                self._write_order(self._order)
+            args += ["--order", self.order_path]
+        return args + (["--count"] if count else [])
+
+    def prepare(self, points, order=None, count=False):
+        self._order = order
+        self.points = points
+        super().prepare(points, order, count)
 
     def _write_order(self, order):
         perm, hint = order
@@ -94,35 +99,19 @@ class CgalPeer(Peer):
             from lfqt import orders
             t0 = time.perf_counter()
             built = orders.order(self.points, self.order_name)
-            self.order_seconds = time.perf_counter() - t0
+            self.extra_seconds = time.perf_counter() - t0
             self._write_order(built)
-        proc = subprocess.run(self.args, capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"cgal_driver failed ({proc.returncode}): {proc.stderr.strip()}")
-        self.report = json.loads(proc.stdout.strip().splitlines()[-1])
-        self._version = self.report.get("cgal_version", "")
+        super().run()
 
-    def self_timing(self):
-        """Driver's in-process time, plus building the order when we build it
-        (paper 2 includes that); cycles are the driver's alone."""
-        return self.report["seconds"] + self.order_seconds, self.report["tsc_cycles"]
-
-    def self_memory(self):
-        """Peak resident bytes of the driver above its state after loading."""
-        return max(self.report["peak_rss_bytes"] - self.report["baseline_rss_bytes"], 0)
-
-    def result(self):
-        simplices = np.load(self.out_path)
-        shutil.rmtree(self.tmp, ignore_errors=True)
-        r = self.report
-        counts = {}
-        if r["counted"]:  # in lfqt.predicates.counters' vocabulary
-            counts = {"orientation_tests": r["orientation"], "conflicts": r["conflicts"],
-                      "incircle_tests": r.get("incircle", r.get("insphere"))}
-        return Result(simplices, counts, {"tsc_cycles": r["tsc_cycles"]})
+    def counts(self, r):
+        if not r["counted"]:
+            return {}
+        return {"orientation_tests": r["orientation"], "conflicts": r["conflicts"],
+                "incircle_tests": r.get("incircle", r.get("insphere"))}
 
 
 PEERS = {f"cgal-{op}": (lambda op: lambda: CgalPeer(op))(op)
-         for op in ("dt2", "dt3", "dt2-order", "dt3-order")}
+         for op in ("dt2", "dt3", "dt2-indexed", "dt3-indexed", "dt3-parallel", "dt2-order",
+                    "dt3-order")}
 PEERS.update({f"cgal-{op[:3]}-{o}": (lambda op, o: lambda: CgalPeer(op, o))(op, o)
               for o in ORDERS for op in ("dt2-order", "dt3-order")})

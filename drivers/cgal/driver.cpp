@@ -1,8 +1,15 @@
 // One CGAL operation on a point file, timed inside the process.
 //
-//   cgal_driver OP POINTS.npy [--order ORDER.npy] [--count] [--out SIMPLICES.npy]
+//   cgal_driver OP POINTS.npy [--order ORDER.npy] [--count] [--threads T] [--out SIMPLICES.npy]
 //
-// OP: dt2 | dt3           range insertion (CGAL spatially sorts: how users call it)
+// OP: dt2 | dt3           range insertion of plain points, no vertex info (CGAL
+//                         spatially sorts: CGAL at its fastest); the output is
+//                         mapped to input indices after the timed region
+//     dt2-indexed | dt3-indexed  range insertion of (point, index) pairs through
+//                         Triangulation_vertex_base_with_info (what a user who
+//                         needs index arrays writes)
+//     dt3-parallel        range insertion with Parallel_tag on T TBB threads
+//                         (built only when TBB is found: cgal_driver_tbb)
 //     dt2-order | dt3-order  one point at a time in ORDER's permutation, each
 //                         with its hint (paper 2, section 3.1); ORDER.npy is an
 //                         int64 (n, 2) array of (input index, hint index or -1).
@@ -19,8 +26,14 @@
 #include <CGAL/version.h>
 #include <sys/resource.h>
 #include <x86intrin.h>
+#ifdef CGAL_LINKED_WITH_TBB
+#include <tbb/global_control.h>
+#endif
 
+#include <array>
 #include <chrono>
+#include <memory>
+#include <type_traits>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -29,8 +42,13 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
+
+#ifndef LFQT_FLAGS
+#define LFQT_FLAGS ""
+#endif
 
 typedef CGAL::Exact_predicates_inexact_constructions_kernel Epick;
 
@@ -171,7 +189,106 @@ struct Result {
   std::vector<std::int64_t> simplices;
 };
 
-// ---------------------------------------------------------------- 2D
+
+// ---------------------------------------------------------------- plain range insertion
+// Input index of a point from its coordinates' bits (the first of equal rows),
+// built after the timed region.
+struct IndexOf {
+  struct Hash {
+    std::size_t operator()(const std::array<std::uint64_t, 3>& k) const {
+      return (k[0] * 0x9E3779B97F4A7C15ULL) ^ (k[1] * 0xC2B2AE3D27D4EB4FULL) ^ (k[2] + 0x165667B19E3779F9ULL);
+    }
+  };
+  std::unordered_map<std::array<std::uint64_t, 3>, long, Hash> map;
+  static std::array<std::uint64_t, 3> key(double x, double y, double z) {
+    std::array<std::uint64_t, 3> k{};
+    std::memcpy(&k[0], &x, 8);
+    std::memcpy(&k[1], &y, 8);
+    std::memcpy(&k[2], &z, 8);
+    return k;
+  }
+  IndexOf(const double* p, long n, int dim) {
+    map.reserve(2 * n);
+    for (long i = n - 1; i >= 0; --i)
+      map[key(p[dim * i], p[dim * i + 1], dim == 3 ? p[dim * i + 2] : 0.0)] = i;
+  }
+  long operator()(double x, double y, double z = 0.0) const { return map.at(key(x, y, z)); }
+};
+
+template <class K>
+Result run2_plain(const double* xy, long n) {
+  typedef CGAL::Delaunay_triangulation_2<K> DT;
+  typedef typename K::Point_2 P;
+  std::vector<P> pts;
+  pts.reserve(n);
+  for (long i = 0; i < n; ++i) pts.emplace_back(xy[2 * i], xy[2 * i + 1]);
+  DT dt;
+  Result r;
+  Clock clk;
+  g_orient = g_incircle = 0;
+  clk.start();
+  dt.insert(pts.begin(), pts.end());
+  auto t = clk.stop();
+  r.seconds = t.first;
+  r.cycles = t.second;
+  r.vertices = dt.number_of_vertices();
+  r.cells = dt.number_of_faces();
+  IndexOf index(xy, n, 2);
+  for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f)
+    for (int j = 0; j < 3; ++j) {
+      const P& p = f->vertex(j)->point();
+      r.simplices.push_back(index(CGAL::to_double(p.x()), CGAL::to_double(p.y())));
+    }
+  return r;
+}
+
+template <class K, class ConcurrencyTag>
+Result run3_plain(const double* xyz, long n, int threads) {
+  typedef CGAL::Triangulation_data_structure_3<CGAL::Triangulation_vertex_base_3<K>,
+                                               CGAL::Delaunay_triangulation_cell_base_3<K>,
+                                               ConcurrencyTag> Tds;
+  typedef CGAL::Delaunay_triangulation_3<K, Tds> DT;
+  typedef typename K::Point_3 P;
+  std::vector<P> pts;
+  pts.reserve(n);
+  for (long i = 0; i < n; ++i) pts.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  Result r;
+  Clock clk;
+  g_orient = g_incircle = 0;
+  DT dt;
+  std::pair<double, unsigned long long> t;
+  if constexpr (std::is_same<ConcurrencyTag, CGAL::Parallel_tag>::value) {
+#ifdef CGAL_LINKED_WITH_TBB
+    // as in CGAL's parallel example: a lock grid over the bounding box
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    typename DT::Lock_data_structure locks(CGAL::bbox_3(pts.begin(), pts.end()), 50);
+    dt.set_lock_data_structure(&locks);
+    clk.start();
+    dt.insert(pts.begin(), pts.end());
+    t = clk.stop();
+    dt.set_lock_data_structure(nullptr);
+#endif
+  } else {
+    (void)threads;
+    clk.start();
+    dt.insert(pts.begin(), pts.end());
+    t = clk.stop();
+  }
+  r.seconds = t.first;
+  r.cycles = t.second;
+  r.vertices = dt.number_of_vertices();
+  r.cells = dt.number_of_finite_cells();
+  IndexOf index(xyz, n, 3);
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+    for (int j = 0; j < 4; ++j) {
+      const P& p = c->vertex(j)->point();
+      r.simplices.push_back(index(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
+                                  CGAL::to_double(p.z())));
+    }
+  return r;
+}
+
+// ---------------------------------------------------------------- 2D, indexed or ordered
 template <class K>
 Result run2(const double* xy, long n, const std::int64_t* order, bool conflicts_mode) {
   typedef CGAL::Triangulation_vertex_base_with_info_2<long, K> Vb;
@@ -288,21 +405,32 @@ Result run3(const double* xyz, long n, const std::int64_t* order, bool conflicts
 int main(int argc, char** argv) {
   try {
     if (argc < 3) {
-      std::fprintf(stderr, "usage: cgal_driver dt2|dt3|dt2-order|dt3-order POINTS.npy "
-                           "[--order ORDER.npy] [--count] [--out SIMPLICES.npy]\n");
+      std::fprintf(stderr, "usage: cgal_driver dt2|dt3|dt2-indexed|dt3-indexed|dt3-parallel|"
+                           "dt2-order|dt3-order POINTS.npy [--order ORDER.npy] [--count] "
+                           "[--threads T] [--out SIMPLICES.npy]\n");
       return 2;
     }
     std::string op = argv[1], points_path = argv[2], order_path, out_path;
     bool count = false;
+    int threads = 1;
     for (int k = 3; k < argc; ++k) {
       std::string a = argv[k];
       if (a == "--count") count = true;
+      else if (a == "--threads" && k + 1 < argc) threads = std::stoi(argv[++k]);
       else if (a == "--order" && k + 1 < argc) order_path = argv[++k];
       else if (a == "--out" && k + 1 < argc) out_path = argv[++k];
       else throw std::runtime_error("unknown argument " + a);
     }
-    int dim = (op == "dt2" || op == "dt2-order") ? 2 : (op == "dt3" || op == "dt3-order") ? 3 : 0;
-    if (!dim) throw std::runtime_error("unknown operation " + op);
+    int dim = op.rfind("dt2", 0) == 0 ? 2 : op.rfind("dt3", 0) == 0 ? 3 : 0;
+    static const char* ops[] = {"dt2", "dt3", "dt2-indexed", "dt3-indexed", "dt3-parallel",
+                                "dt2-order", "dt3-order"};
+    bool known = false;
+    for (const char* o : ops) known = known || op == o;
+    if (!known) throw std::runtime_error("unknown operation " + op);
+#ifndef CGAL_LINKED_WITH_TBB
+    if (op == "dt3-parallel") throw std::runtime_error("dt3-parallel needs the TBB build (cgal_driver_tbb)");
+#endif
+    if (op == "dt3-parallel" && count) throw std::runtime_error("dt3-parallel does not count");
     bool ordered = op.find("-order") != std::string::npos;
     Array pts = read_npy(points_path);
     if (pts.descr != "<f8" || pts.shape.size() != 2 || pts.shape[1] != dim)
@@ -319,17 +447,32 @@ int main(int argc, char** argv) {
     }
     const double* xy = reinterpret_cast<const double*>(pts.data.data());
     long baseline = current_rss_bytes();
-    Result r = dim == 2 ? (count ? run2<CountingK>(xy, n, order, ordered) : run2<Epick>(xy, n, order, false))
-                        : (count ? run3<CountingK>(xy, n, order, ordered) : run3<Epick>(xy, n, order, false));
+    bool plain = op == "dt2" || op == "dt3" || op == "dt3-parallel";
+    Result r;
+    if (plain && dim == 2) {
+      r = count ? run2_plain<CountingK>(xy, n) : run2_plain<Epick>(xy, n);
+    } else if (plain && op == "dt3") {
+      r = count ? run3_plain<CountingK, CGAL::Sequential_tag>(xy, n, 1)
+                : run3_plain<Epick, CGAL::Sequential_tag>(xy, n, 1);
+    } else if (plain) {
+#ifdef CGAL_LINKED_WITH_TBB
+      r = run3_plain<Epick, CGAL::Parallel_tag>(xy, n, threads);
+#endif
+    } else if (dim == 2) {
+      r = count ? run2<CountingK>(xy, n, order, ordered) : run2<Epick>(xy, n, order, false);
+    } else {
+      r = count ? run3<CountingK>(xy, n, order, ordered) : run3<Epick>(xy, n, order, false);
+    }
     if (!out_path.empty()) write_npy_i64(out_path, r.simplices, r.simplices.size() / (dim + 1), dim + 1);
     std::printf("{\"op\": \"%s\", \"n\": %ld, \"seconds\": %.9f, \"tsc_cycles\": %llu, "
                 "\"vertices\": %ld, \"simplices\": %ld, \"counted\": %s, \"orientation\": %llu, "
                 "\"%s\": %llu, \"conflicts\": %llu, \"baseline_rss_bytes\": %ld, "
-                "\"peak_rss_bytes\": %ld, \"cgal_version\": \"%s\"}\n",
+                "\"peak_rss_bytes\": %ld, \"cgal_version\": \"%s\", \"threads\": %d, "
+                "\"compiler\": \"gcc %s\", \"flags\": \"%s\"}\n",
                 op.c_str(), n, r.seconds, r.cycles, r.vertices, r.cells, count ? "true" : "false",
                 (unsigned long long)g_orient, dim == 2 ? "incircle" : "insphere",
                 (unsigned long long)g_incircle, (unsigned long long)r.conflicts, baseline,
-                peak_rss_bytes(), CGAL_VERSION_STR);
+                peak_rss_bytes(), CGAL_VERSION_STR, threads, __VERSION__, LFQT_FLAGS);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cgal_driver: %s\n", e.what());
