@@ -28,6 +28,10 @@ FORMATS = {  # coord_bits, exp_bits, mant_bits, smallest normal exponent
 def as_exact_float(points, dims):
     """Validate an (n, d) array-like with d in ``dims``; return it as float32
     or float64 holding exactly the input values."""
+    if isinstance(points, np.ma.MaskedArray):
+        raise TypeError("points is a masked array; masked-out rows would be triangulated as "
+                        "real points: pass points[~np.ma.getmaskarray(points).any(axis=1)] "
+                        "(the unmasked rows) or points.filled(...) instead")
     arr = np.asarray(points)
     if arr.dtype == object or arr.dtype.kind not in "fiu":
         raise TypeError(f"points must be real numbers, got dtype {arr.dtype}")
@@ -111,11 +115,14 @@ def exponent_for(dtype, big, small):
 
 def window_exponent(big, small, max_exp, min_ulp_exp):
     """Power of two s with every nonzero magnitude in [small, big] mapped into
-    [2**(min_ulp_exp + 52), 2**max_exp)."""
+    [2**(min_ulp_exp + 52), 2**max_exp).  The floor is on magnitudes, not on
+    ulps: a subnormal input scaled only until its ulp is 2**min_ulp_exp
+    would stay below the window, and the degree-5 products of the 3D
+    predicates would lose their tails to underflow."""
     if big == 0.0:
         return 0
     top = math.frexp(big)[1] - 1
-    bottom = max(math.frexp(small)[1] - 1, -1022)
+    bottom = math.frexp(small)[1] - 1  # exact for subnormals too
     lo = min_ulp_exp + 52 - bottom
     hi = max_exp - 1 - top
     if lo > hi:

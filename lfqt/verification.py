@@ -331,22 +331,60 @@ def _verify3(P, simplices, neighbors, problems, checks, counts):
     return boundary
 
 
+def _int_array(value, name, problems):
+    """``value`` as an int64 array, or None with a problem when it is not one."""
+    try:
+        arr = np.asarray(value)
+        if arr.dtype.kind not in "iu" and arr.size:
+            raise TypeError(f"dtype {arr.dtype}")
+        return np.ascontiguousarray(arr, dtype=np.int64)
+    except (TypeError, ValueError) as e:
+        problems.append(f"{name} is not an integer array ({e})")
+        return None
+
+
+def _shape_problems(P, tri, kind):
+    """Every array's shape and index range, checked before anything reads
+    through them: (simplices, neighbors, dup, hull, problems)."""
+    n, width = len(P), P.shape[1] + 1
+    problems = []
+    simplices = _int_array(getattr(tri, "simplices", None), "simplices", problems)
+    neighbors = _int_array(getattr(tri, "neighbors", None), "neighbors", problems)
+    dup = getattr(tri, "duplicate_of", None)
+    dup = np.arange(n) if dup is None else _int_array(dup, "duplicate_of", problems)
+    hull = getattr(tri, "hull", None)  # None: not given (3D derives it; 2D then fails "hull")
+    hull = None if hull is None else _int_array(hull, "hull", problems)
+    if simplices is not None and simplices.size == 0:
+        simplices = simplices.reshape(0, width)
+    if simplices is not None and (simplices.ndim != 2 or simplices.shape[1] != width):
+        problems.append(f"simplices must have shape (m, {width}), got {simplices.shape}")
+        simplices = None
+    if simplices is not None and neighbors is not None:
+        if neighbors.size == 0 and len(simplices) == 0:
+            neighbors = neighbors.reshape(0, width)
+        if neighbors.shape != simplices.shape:
+            problems.append(f"neighbors must have the shape of simplices {simplices.shape}, "
+                            f"got {neighbors.shape}")
+        elif neighbors.size and (neighbors.min() < -1 or neighbors.max() >= len(simplices)):
+            problems.append(f"neighbors must be -1 or a simplex index below {len(simplices)}")
+    if simplices is not None and simplices.size and (simplices.min() < 0 or simplices.max() >= n):
+        problems.append(f"simplices hold vertex indices outside [0, {n})")
+    if dup is not None and (dup.shape != (n,) or (n and (dup.min() < 0 or dup.max() >= n))):
+        problems.append(f"duplicate_of must be {n} indices in [0, {n})")
+    if hull is not None and hull.size and (hull.min() < 0 or hull.max() >= n):
+        problems.append(f"hull holds vertex indices outside [0, {n})")
+    return simplices, neighbors, dup, hull, problems
+
+
 def _start(P, tri, kind):
-    """Checks shared by 2D and 3D: indices in range and a consistent
+    """Checks shared by 2D and 3D: shapes, indices in range and a consistent
     ``duplicate_of``.  Returns (simplices, neighbors, dup, distinct,
     problems, checks, counts), or a failed VerifyReport."""
-    n, width = len(P), P.shape[1] + 1
-    simplices = np.ascontiguousarray(tri.simplices, dtype=np.int64).reshape(-1, width)
-    neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.int64).reshape(-1, width)
-    dup = getattr(tri, "duplicate_of", None)
-    dup = np.arange(n) if dup is None else np.asarray(dup, dtype=np.int64)
-    problems, checks = [], {}
-    counts = {kind: int(len(simplices)), "points": int(n)}
-    _problem(problems, checks, "indices",
-             bool(simplices.size and (simplices.min() < 0 or simplices.max() >= n))
-             or len(dup) != n or bool(n and (dup.min() < 0 or dup.max() >= n)),
-             "indices out of range")
-    if not checks["indices"]:
+    n = len(P)
+    simplices, neighbors, dup, hull, problems = _shape_problems(P, tri, kind)
+    checks = {"indices": not problems}
+    counts = {kind: int(len(simplices)) if simplices is not None else 0, "points": int(n)}
+    if problems:
         return VerifyReport(False, checks, problems, counts)
     rep_ok = bool(np.all(dup[dup] == dup)) and bool(np.all(P[dup] == P))
     _problem(problems, checks, "duplicates", not rep_ok,
@@ -381,10 +419,10 @@ def verify(points, tri):
         return _verify_3d(exact_points3(points), tri)
     xs, ys = exact_coordinates2d(points)
     n = xs.shape[0]
-    hull = np.asarray(tri.hull, dtype=np.int64)
     start = _start(np.column_stack((xs, ys)), tri, "triangles")
     if isinstance(start, VerifyReport):
         return start
+    hull = np.asarray([] if tri.hull is None else tri.hull, dtype=np.int64)
     simplices, neighbors, dup, distinct, problems, checks, counts = start
 
     if len(simplices) == 0:
@@ -437,7 +475,8 @@ def _verify_3d(P, tri):
         return VerifyReport(not problems, checks, problems, counts)
     boundary = _verify3(P, simplices, neighbors, problems, checks, counts)
     _check_points_used(simplices, dup, distinct, problems, checks)
-    hull = np.asarray(getattr(tri, "hull", boundary))
+    hull = getattr(tri, "hull", None)
+    hull = boundary if hull is None else np.asarray(hull)
     if hull.ndim == 2 and hull.shape[1] == 3:
         same = {tuple(np.roll(f, -int(np.argmin(f)))) for f in boundary.tolist()} == \
             {tuple(np.roll(f, -int(np.argmin(f)))) for f in hull.tolist()}

@@ -143,3 +143,39 @@ def test_report_raises_with_reasons(good):
     s[0] = s[0, ::-1]
     with pytest.raises(AssertionError, match="counter-clockwise"):
         lfqt.verify(pts, broken(tri, simplices=s)).raise_if_invalid()
+
+
+@pytest.mark.parametrize("break_it", ["short_neighbors", "long_neighbors", "hull_out_of_range",
+                                      "simplices_wrong_width", "neighbors_out_of_range",
+                                      "float_simplices", "duplicate_of_short", "no_simplices"])
+def test_malformed_arrays_are_reported_never_raised(break_it, rng):
+    pts = rng.random((300, 2))
+    tri = copy.copy(lfqt.triangulate(pts))
+    if break_it == "short_neighbors":
+        tri.neighbors = tri.neighbors[:-5]  # a truncated view must not pass as ok
+    elif break_it == "long_neighbors":
+        tri.neighbors = np.r_[tri.neighbors, tri.neighbors[:3]]
+    elif break_it == "hull_out_of_range":
+        tri.hull = np.r_[tri.hull, 10 ** 6]
+    elif break_it == "simplices_wrong_width":
+        tri.simplices = tri.simplices[:, :2]
+    elif break_it == "neighbors_out_of_range":
+        tri.neighbors = tri.neighbors.copy()
+        tri.neighbors[0, 0] = len(tri.simplices) + 7
+    elif break_it == "float_simplices":
+        tri.simplices = tri.simplices + 0.5
+    elif break_it == "duplicate_of_short":
+        tri.duplicate_of = tri.duplicate_of[:10]
+    else:
+        tri.simplices = None
+    report = lfqt.verify(pts, tri)
+    assert not report.ok and report.problems and not report.checks["indices"]
+
+
+def test_mesh_from_simplices_lets_verify_check_bare_simplices(rng):
+    from lfqt.verification import mesh_from_simplices
+    for d in (2, 3):
+        pts = rng.random((500, d))
+        s = lfqt.insert(pts).simplices
+        assert lfqt.verify(pts, mesh_from_simplices(s, len(pts))).ok
+        assert not lfqt.verify(pts, mesh_from_simplices(s[1:], len(pts))).ok

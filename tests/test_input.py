@@ -1,0 +1,66 @@
+"""lfqt._input: validation and the exact rescale, over the whole float range.
+Inputs that once crashed run in a child process, so that a crash fails the
+test instead of killing the test run."""
+import math
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from lfqt import _input
+
+
+@pytest.mark.parametrize("dims,window", [(2, (_input.MAX_EXP, _input.MIN_ULP_EXP)),
+                                         (3, (_input.MAX_EXP_3D, _input.MIN_ULP_EXP_3D))])
+@pytest.mark.parametrize("e", [-1074, -1066, -1050, -1023, -1000, -300, 0, 300, 1000])
+def test_rescale_puts_every_magnitude_in_the_window(dims, window, e):
+    """Subnormal input included: the smallest scaled magnitude, not its ulp,
+    must clear the window's floor (products of degree 5 keep normal tails)."""
+    small, big = 2.0 ** e, 4 * 2.0 ** e if e < 1000 else 2.0 ** e
+    s = _input.window_exponent(big, small, *window)
+    lo, hi = math.ldexp(small, s), math.ldexp(big, s)
+    assert 2.0 ** (window[1] + 52) <= lo and hi < 2.0 ** window[0]
+
+
+def _child(code):
+    proc = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True,
+                          text=True, timeout=600)
+    assert proc.returncode == 0, f"child died ({proc.returncode}): {proc.stderr[-2000:]}"
+    return proc.stdout
+
+
+def test_all_subnormal_grids_and_integer_sets_verify_in_2d_and_3d():
+    """Grids and random integer sets scaled by 2**-1074 to 2**-1000, each
+    built and verified, 50 calls in one process (a crash fails the test)."""
+    out = _child("""
+        import numpy as np, lfqt
+        rng = np.random.default_rng(5)
+        g2 = np.stack(np.meshgrid(np.arange(8.0), np.arange(8.0)), -1).reshape(-1, 2)
+        g3 = np.stack(np.meshgrid(*[np.arange(5.0)] * 3), -1).reshape(-1, 3)
+        bad, calls = [], 0
+        for e in (-1074, -1070, -1066, -1060, -1050, -1040, -1030, -1022, -1010, -1000):
+            sets = [g2, g3, rng.integers(0, 9, (60, 2)).astype(float),
+                    rng.integers(0, 9, (60, 3)).astype(float)]
+            for pts in sets:
+                pts = pts * 2.0 ** e
+                builds = [lfqt.insert] + ([lfqt.triangulate] if pts.shape[1] == 2 else [])
+                for build in builds:
+                    tri = build(pts)
+                    calls += 1
+                    if not lfqt.verify(pts, tri).ok:
+                        bad.append((e, pts.shape, build.__name__))
+        print(calls, bad)
+    """)
+    calls, bad = out.strip().split(" ", 1)
+    assert int(calls) >= 50 and bad == "[]", out
+
+
+def test_masked_arrays_are_refused():
+    import lfqt
+    pts = np.ma.masked_array(np.random.default_rng(0).random((20, 2)), mask=False)
+    pts[3, 0] = np.ma.masked
+    for build in (lfqt.triangulate, lfqt.insert, lfqt.Delaunay):
+        with pytest.raises(TypeError, match="masked"):
+            build(pts)
