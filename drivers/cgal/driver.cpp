@@ -215,6 +215,18 @@ struct IndexOf {
   long operator()(double x, double y, double z = 0.0) const { return map.at(key(x, y, z)); }
 };
 
+// Range insertion, timed, with the counters reset.
+template <class DT, class Points>
+void time_insert(DT& dt, const Points& pts, Result& r) {
+  Clock clk;
+  g_orient = g_incircle = 0;
+  clk.start();
+  dt.insert(pts.begin(), pts.end());
+  auto t = clk.stop();
+  r.seconds = t.first;
+  r.cycles = t.second;
+}
+
 template <class K>
 Result run2_plain(const double* xy, long n) {
   typedef CGAL::Delaunay_triangulation_2<K> DT;
@@ -224,13 +236,7 @@ Result run2_plain(const double* xy, long n) {
   for (long i = 0; i < n; ++i) pts.emplace_back(xy[2 * i], xy[2 * i + 1]);
   DT dt;
   Result r;
-  Clock clk;
-  g_orient = g_incircle = 0;
-  clk.start();
-  dt.insert(pts.begin(), pts.end());
-  auto t = clk.stop();
-  r.seconds = t.first;
-  r.cycles = t.second;
+  time_insert(dt, pts, r);
   r.vertices = dt.number_of_vertices();
   r.cells = dt.number_of_faces();
   IndexOf index(xy, n, 2);
@@ -253,29 +259,20 @@ Result run3_plain(const double* xyz, long n, int threads) {
   pts.reserve(n);
   for (long i = 0; i < n; ++i) pts.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   Result r;
-  Clock clk;
-  g_orient = g_incircle = 0;
   DT dt;
-  std::pair<double, unsigned long long> t;
   if constexpr (std::is_same<ConcurrencyTag, CGAL::Parallel_tag>::value) {
 #ifdef CGAL_LINKED_WITH_TBB
     // as in CGAL's parallel example: a lock grid over the bounding box
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     typename DT::Lock_data_structure locks(CGAL::bbox_3(pts.begin(), pts.end()), 50);
     dt.set_lock_data_structure(&locks);
-    clk.start();
-    dt.insert(pts.begin(), pts.end());
-    t = clk.stop();
+    time_insert(dt, pts, r);
     dt.set_lock_data_structure(nullptr);
 #endif
   } else {
     (void)threads;
-    clk.start();
-    dt.insert(pts.begin(), pts.end());
-    t = clk.stop();
+    time_insert(dt, pts, r);
   }
-  r.seconds = t.first;
-  r.cycles = t.second;
   r.vertices = dt.number_of_vertices();
   r.cells = dt.number_of_finite_cells();
   IndexOf index(xyz, n, 3);
