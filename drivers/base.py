@@ -129,7 +129,10 @@ class CompiledPeer(Peer):
     def run(self):
         import json
         import subprocess
-        proc = subprocess.run(self.command, capture_output=True, text=True)
+
+        from .isolate import die_with_parent
+        proc = subprocess.run(self.command, capture_output=True, text=True,
+                              preexec_fn=die_with_parent)
         if proc.returncode != 0:
             raise RuntimeError(f"{self.binary.name} failed ({proc.returncode}): "
                                f"{proc.stderr.strip()}")

@@ -4,8 +4,10 @@ A crash, a timeout, running out of memory or an exception in the child come
 back as a :class:`Failure` with the reason, so that a sweep goes on (paper 1
 reports Triangle failing at 100M points; we must be able to report that).
 """
+import ctypes
 import faulthandler
 import multiprocessing as mp
+import os
 import resource
 import signal
 import time
@@ -83,7 +85,24 @@ def current_rss():
         return int(f.read().split()[1]) * resource.getpagesize()
 
 
-def _child(conn, peer, points, kwargs, memory_bytes):
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent(parent=None):
+    """Linux: have the kernel kill this process when its parent dies, even by
+    SIGKILL, so that a measuring child never outlives its runner and loads
+    the machine under a resumed sweep.  For subprocess's preexec_fn too."""
+    parent = os.getppid() if parent is None else parent
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    except (OSError, AttributeError):  # not Linux: the old behaviour
+        return
+    if os.getppid() != parent:  # the parent died before the call
+        os._exit(1)
+
+
+def _child(conn, peer, points, kwargs, memory_bytes, parent):
+    die_with_parent(parent)
     faulthandler.disable()  # a crash is a result here, not something to dump
     if memory_bytes:
         resource.setrlimit(resource.RLIMIT_AS, (memory_bytes, memory_bytes))
@@ -101,7 +120,8 @@ def measure_isolated(peer, points, *, timeout=600.0, memory_bytes=None, **kwargs
     """``measure`` in a forked child.  Returns a Measurement or a Failure."""
     ctx = mp.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child, args=(send, peer, np.asarray(points), kwargs, memory_bytes))
+    proc = ctx.Process(target=_child, args=(send, peer, np.asarray(points), kwargs, memory_bytes,
+                                            os.getpid()))
     proc.start()
     send.close()
     deadline = time.monotonic() + timeout

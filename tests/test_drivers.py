@@ -188,3 +188,45 @@ def test_triangle_source_edits_apply_once_or_fail_loudly():
     assert counted.count("lfqt_orient_undecided++;") == 1 and "long lfqt_orient_calls" in counted
     with pytest.raises(ValueError, match="expected 1"):
         triangle_native.counted_source(text + text)
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            return not any(line.startswith("State:") and "Z" in line for line in f)
+    except FileNotFoundError:
+        return False
+
+
+def test_a_measuring_child_dies_with_its_runner(tmp_path):
+    """kill -9 of the runner takes the child that measures a cell with it."""
+    import subprocess
+    import sys
+    pidfile = tmp_path / "child.pid"
+    code = f"""
+import os, time
+import numpy as np
+import drivers
+class Sleeper(drivers.Peer):
+    name = "sleeper"
+    def prepare(self, points, order=None, count=False):
+        pass
+    def run(self):
+        open({str(pidfile)!r}, "w").write(str(os.getpid()))
+        time.sleep(60)
+drivers.measure_isolated(Sleeper(), np.zeros((3, 2)), repeats=1, timeout=120, warmup=False)
+"""
+    runner = subprocess.Popen([sys.executable, "-c", code])
+    for _ in range(300):
+        if pidfile.exists() and pidfile.read_text():
+            break
+        time.sleep(0.1)
+    child = int(pidfile.read_text())
+    assert _alive(child)
+    runner.kill()
+    runner.wait()
+    for _ in range(50):
+        if not _alive(child):
+            break
+        time.sleep(0.1)
+    assert not _alive(child)
