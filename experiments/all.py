@@ -8,7 +8,7 @@ import argparse
 import sys
 import time
 
-from .experiment import SCALES
+from .experiment import SCALES, results_root
 from .registry import main_job
 
 
@@ -27,9 +27,10 @@ def main(argv=None):
     for exp in jobs:
         print(f"== {exp.name} ({args.scale}) ==", flush=True)
         exp.main(extra)
-    print(f"\nDone in {time.time() - t0:.0f} s. Figures: {args.out}/figures/ "
+    root = results_root(args.out, args.scale)
+    print(f"\nDone in {time.time() - t0:.0f} s. Figures: {root}/figures/ "
           f"({', '.join(e.name for e in jobs)}; .png and .svg); tidy results and metadata: "
-          f"{args.out}/<experiment>/")
+          f"{root}/<experiment>/")
     return 0
 
 

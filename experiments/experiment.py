@@ -78,21 +78,31 @@ class Experiment:
         for flag, kwargs in self.options:
             ap.add_argument(flag, **kwargs)
         args = ap.parse_args(argv)
-        out_dir = Path(args.out) / self.name
+        root = results_root(args.out, args.scale)
+        out_dir = root / self.name
         if not args.plot_only:
             cells = self.cells(args)
             if self.setup:
                 self.setup(args, out_dir)
-            runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=args.out,
+            runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
                        force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
                        progress=not args.quiet, extra_metadata={"scale": args.scale},
                        command=" ".join([self.command] + list(argv if argv is not None
                                                                else sys.argv[1:])))
         import matplotlib
         matplotlib.use("Agg")
-        for p in self.plot(results.load(out_dir), args.out):
+        if not (out_dir / "results.csv").exists():
+            raise SystemExit(f"{self.command}: no results at {out_dir}: run it without "
+                             "--plot-only first")
+        for p in self.plot(results.load(out_dir), root):
             print(p)
         return 0
+
+
+def results_root(out, scale):
+    """Where a scale's results and figures go: ``out`` for the default scale,
+    ``out/<scale>`` for the others, so that scales never overwrite each other."""
+    return Path(out) if scale == "default" else Path(out) / scale
 
 
 def figure_paths(fig, out, name):

@@ -15,13 +15,13 @@ def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
     assert bench_dc.main(["--scale", "smoke", "--repeats", "1", "--rounds", "2",
                           "--peers", "lfqt-dc,triangle", "--out", str(tmp_path), "--quiet",
                           "--no-compile-time"]) == 0
-    rows = load_rows(tmp_path / "bench_dc")
+    rows = load_rows(tmp_path / "smoke" / "bench_dc")
     assert [(r["round"], r["peer"]) for r in rows] == [
         (0, "lfqt-dc"), (0, "triangle"), (1, "lfqt-dc"), (1, "triangle")]
     assert all(r["status"] == "ok" and r["seconds"] > 0 for r in rows)
-    log = [json.loads(l)["cell"]["round"] for l in open(tmp_path / "bench_dc" / "cells.jsonl")]
+    log = [json.loads(l)["cell"]["round"] for l in open(tmp_path / "smoke" / "bench_dc" / "cells.jsonl")]
     assert log == [0, 0, 1, 1]  # round after round: peers interleaved in time
-    assert (tmp_path / "figures" / "bench_dc.png").stat().st_size > 20000
+    assert (tmp_path / "smoke" / "figures" / "bench_dc.png").stat().st_size > 20000
     text = capsys.readouterr().out
     tri = next(l for l in text.splitlines() if " triangle " in l)
     medians = {r["peer"]: sorted(x["seconds"] for x in rows if x["peer"] == r["peer"])
@@ -70,9 +70,9 @@ def test_main_job_at_smoke_scale(tmp_path, capsys):
     assert all_experiments.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet"]) == 0
     text = capsys.readouterr().out
     for name in ("fig3", "fig4", "liu_table1", "liu_counts"):
-        assert (tmp_path / "figures" / f"{name}.png").stat().st_size > 20000
-        assert (tmp_path / "figures" / f"{name}.svg").exists()
-        rows = load_rows(tmp_path / name)
+        assert (tmp_path / "smoke" / "figures" / f"{name}.png").stat().st_size > 20000
+        assert (tmp_path / "smoke" / "figures" / f"{name}.svg").exists()
+        rows = load_rows(tmp_path / "smoke" / name)
         bad = [(r["peer"], r["status"], r["detail"][:80]) for r in rows if r["status"] != "ok"]
         assert not bad, bad
     assert "paper at 100k: 2.5x-3x" in text and "conflicts/pt" in text
@@ -85,10 +85,10 @@ def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, c
     from experiments import bench_insert
     assert bench_insert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
                               "--repeats", "1"]) == 0
-    rows = load_rows(tmp_path / "bench_insert")
+    rows = load_rows(tmp_path / "smoke" / "bench_insert")
     assert {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"} == {
         (peer, dist) for _, dist, ours, cgal in bench_insert.SETUPS for peer in [ours] + cgal}
-    assert (tmp_path / "figures" / "bench_insert.png").stat().st_size > 20000
+    assert (tmp_path / "smoke" / "figures" / "bench_insert.png").stat().st_size > 20000
     assert "lfqt time / peer time" in capsys.readouterr().out
 
 
@@ -100,3 +100,15 @@ def test_rounds_repeat_timed_cells_but_not_deterministic_counts(tmp_path):
     # round 0 keeps the key format of sweeps from before rounds existed: they resume
     assert "round" not in json.loads(Cell("lfqt-dc", "uniform", 1000).key)
     assert "round" in json.loads(Cell("lfqt-dc", "uniform", 1000, round=1).key)
+
+
+def test_scales_never_overwrite_each_other(tmp_path):
+    from experiments import fig4
+    args = ["--out", str(tmp_path), "--quiet", "--repeats", "1", "--dists", "uniform"]
+    assert fig4.main(["--scale", "smoke", "--sizes", "1000"] + args) == 0
+    assert fig4.main(["--scale", "default", "--sizes", "3000"] + args) == 0
+    smoke, default = load_rows(tmp_path / "smoke" / "fig4"), load_rows(tmp_path / "fig4")
+    assert {r["n"] for r in smoke} == {1000} and {r["n"] for r in default} == {3000}
+    assert (tmp_path / "smoke" / "figures" / "fig4.png").exists()
+    assert (tmp_path / "figures" / "fig4.png").exists()
+    assert json.loads((tmp_path / "fig4" / "metadata.json").read_text())["scale"] == "default"
