@@ -28,6 +28,10 @@ class Experiment:
     options: tuple = ()  # extra (flag, argparse keywords)
     setup: Callable = None  # (args, out_dir) before the grid is measured
     main_job: bool = False  # part of ``python -m experiments.all``
+    # (scale, cell) -> why the cell is known to fail within the scale's cell
+    # timeout, or None: such a cell is recorded as skipped with that reason
+    # instead of being waited for again
+    known_failure: Callable = None
 
     @property
     def command(self):
@@ -84,7 +88,9 @@ class Experiment:
             cells = self.cells(args)
             if self.setup:
                 self.setup(args, out_dir)
+            known = (lambda c: self.known_failure(args.scale, c)) if self.known_failure else None
             runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
+                       known_failure=known,
                        force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
                        progress=not args.quiet, extra_metadata={"scale": args.scale},
                        command=" ".join([self.command] + list(argv if argv is not None

@@ -19,10 +19,26 @@ SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
 QHULL_MAX = {"smoke": 0, "default": 100_000, "paper": 1_000_000}
 
 
+def known_failure(scale, cell):
+    """Qhull on Circle (nearly cocircular points) runs far past the default
+    scale's cell timeout (120 s at 100k, measured): not waited for again."""
+    if cell.peer.startswith("qhull") and cell.distribution == "circle" and scale != "paper":
+        return "known timeout: Qhull needs far more than the cell's 120 s on nearly cocircular points"
+    return None
+
+
 def grid(scale, threads):
     return [Cell(peer, dist, n, threads=threads if peer.startswith("lfqt-dc") else 1)
             for n in SIZES[scale] for dist in DISTS for peer in PEERS
             if not (peer.startswith("qhull") and n > QHULL_MAX[scale])]
+
+
+def published_ratios():
+    """{(distribution, n): ratio} that paper 1's text states for Fig. 3 (lfqt
+    faster than CGAL and Triangle by that factor); the figure has no numbers."""
+    pub = results.published("fuetterling2014")
+    rows = pub[pub["metric"] == "speedup_vs_cgal_and_triangle"]
+    return {(r["distribution"], int(r["n"])): float(r["value"]) for r in rows.to_dict("records")}
 
 
 def plot(df, out):
@@ -30,15 +46,18 @@ def plot(df, out):
     s = results.summarize(df)
     sizes = sorted(df["n"].unique())
     peers = [p for p in PEERS if p in set(df["peer"])]
-    fig, axes = plt.subplots(1, len(sizes), figsize=(6.5 * len(sizes), 4.8), squeeze=False)
+    stated = published_ratios()
+    fig, axes = plt.subplots(2, len(sizes), figsize=(6.5 * len(sizes), 8.5), squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 2]})
     colors = dict(zip(PEERS, ["#1b6ca8", "#d1495b", "#f08a8a", "#edae49", "#f5d49a", "#66a182",
                               "#8d8d8d"]))
     print(f"\n{'n':>11} {'distribution':12} " + " ".join(f"{p:>20}" for p in peers[1:])
-          + "   (median time of peer / lfqt-dc; paper at 100k: 2.5x-3x for CGAL and Triangle)")
-    for ax, n in zip(axes[0], sizes):
-        width = 0.8 / len(peers)
+          + "   (median time of peer / lfqt-dc; paper at 100k: 2.5x-3x, uniform to spiral)")
+    width = 0.8 / len(peers)
+    for col, n in enumerate(sizes):
+        ax, rax = axes[0][col], axes[1][col]
         for k, peer in enumerate(peers):
-            vals = [results.cell(s, peer, d, n, False).get("median") for d in DISTS]
+            vals = [results.median(s, peer, d, n, False) for d in DISTS]
             xs = np.arange(len(DISTS)) + k * width
             ax.bar(xs, [v or 0 for v in vals], width, label=peer, color=colors[peer])
             for x, v, d in zip(xs, vals, DISTS):
@@ -46,20 +65,26 @@ def plot(df, out):
                 if v is None and st:  # timeout, crash, skipped...: say so where the bar would be
                     ax.annotate(st, (x, 0.02), xycoords=("data", "axes fraction"), rotation=90,
                                 fontsize=7, ha="center", va="bottom", color=colors[peer])
-        if n == 100_000:  # the paper's stated ratio as a band over CGAL and Triangle
-            for j, d in enumerate(DISTS):
-                ours = results.cell(s, "lfqt-dc", d, n, False).get("median")
-                if ours:
-                    ax.fill_between([j + width * 0.5, j + width * 2.5], 2.5 * ours, 3 * ours,
-                                    color="black", alpha=0.15, lw=0,
-                                    label="paper: 2.5x-3x lfqt" if j == 0 else None)
+            if peer != "lfqt-dc":
+                ratios = [results.ratio(v, results.median(s, "lfqt-dc", d, n, False))
+                          for v, d in zip(vals, DISTS)]
+                rax.bar(xs, [r if r == r else 0 for r in ratios], width, color=colors[peer])
+        for j, d in enumerate(DISTS):
+            if (d, n) in stated:  # the paper's stated ratio, over the CGAL and Triangle bars
+                ax_lo, ax_hi = j + width * 0.5, j + width * (len(peers) - 0.5)
+                rax.hlines(stated[(d, n)], ax_lo, ax_hi, color="black", lw=2,
+                           label="paper's stated ratio" if j == 0 else None)
         ax.set_xticks(np.arange(len(DISTS)) + 0.4 - width / 2, DISTS)
+        rax.set_xticks(np.arange(len(DISTS)) + 0.4 - width / 2, DISTS)
         ax.set_yscale("log")
         ax.set_ylabel("seconds (median)")
+        rax.set_ylabel("peer time / lfqt-dc time")
+        rax.axhline(1.0, color="black", lw=0.8, ls=":")
         ax.set_title(f"{n:,} points, 1 thread")
-        ax.grid(axis="y", alpha=0.3)
+        for a in (ax, rax):
+            a.grid(axis="y", alpha=0.3)
         for d in DISTS:
-            ours = results.cell(s, "lfqt-dc", d, n, False).get("median")
+            ours = results.median(s, "lfqt-dc", d, n, False)
             cells = [results.fmt_ratio(results.ratio(results.median(s, p, d, n, False), ours))
                      for p in peers[1:]]
             print(f"{n:>11,} {d:12} " + " ".join(f"{c:>20}" for c in cells))
@@ -68,14 +93,20 @@ def plot(df, out):
                 if best:
                     print(f"{'':>11} {'':12} headline: {family} at its fastest ({best}) "
                           f"{results.fmt_ratio(results.ratio(t, ours))}")
-    axes[0][0].legend(fontsize=8)
-    fig.suptitle("Paper 1, Fig. 3: single-thread run times (lower is better)")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    rh, rl = axes[1][0].get_legend_handles_labels()
+    fig.legend(handles + rh, labels + rl, loc="lower center", ncol=4, fontsize=8,
+               bbox_to_anchor=(0.5, -0.02), frameon=False)
+    fig.suptitle("Paper 1, Fig. 3: single-thread run times (top, lower is better) and peer time "
+                 "over lfqt's (bottom; black: the paper's stated ratio)")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     return figure_paths(fig, out, "fig3")
 
 
 EXPERIMENT = Experiment("fig3", "single-thread times of lfqt, CGAL, Triangle (+ alternating cuts, "
                         "Qhull) on five distributions", grid, plot,
-                        reproduces=(("Paper 1", "Fig. 3"),), main_job=True)
+                        reproduces=(("Paper 1", "Fig. 3"),), main_job=True,
+                        known_failure=known_failure)
 main = EXPERIMENT.main
 
 

@@ -117,7 +117,7 @@ def _progress(experiment, total):
 
 
 def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, timeout=1800.0,
-        progress=True, command=None, extra_metadata=None):
+        progress=True, command=None, extra_metadata=None, known_failure=None):
     """Measure every cell not already done; return the results directory.
 
     With ``rounds`` > 1 the whole grid is measured that many times, round
@@ -125,7 +125,8 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     shared machine whose speed drifts over minutes, this spreads every peer's
     runs over the same stretch of time, so the pooled medians of peers are
     compared under the same conditions rather than under whatever held while
-    each peer's single cell ran.
+    each peer's single cell ran.  ``known_failure(cell)`` may give a reason
+    the cell is known to fail; it is then recorded as skipped, not run.
     """
     cells = [replace(c, round=r) for r in range(max(rounds, 1)) for c in cells
              if r == 0 or not c.count]  # counts are deterministic: one round
@@ -146,7 +147,9 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
         for cell in todo:
             if bar:
                 bar.set_postfix_str(cell.label())
-            outcome = measure_cell(cell, 1 if cell.count else repeats, timeout)
+            reason = known_failure(cell) if known_failure else None
+            outcome = ({"status": "skipped", "detail": reason} if reason else
+                       measure_cell(cell, 1 if cell.count else repeats, timeout))
             rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome}
             f.write(json.dumps(rec, default=float) + "\n")
             f.flush()

@@ -112,3 +112,15 @@ def test_scales_never_overwrite_each_other(tmp_path):
     assert (tmp_path / "smoke" / "figures" / "fig4.png").exists()
     assert (tmp_path / "figures" / "fig4.png").exists()
     assert json.loads((tmp_path / "fig4" / "metadata.json").read_text())["scale"] == "default"
+
+
+def test_known_failures_are_recorded_with_their_reason_not_waited_for(tmp_path):
+    cells = [Cell("lfqt-dc", "circle", 1000), Cell("qhull-2d", "circle", 1000)]
+    known = lambda c: "known timeout" if c.peer == "qhull-2d" else None  # noqa: E731
+    rows = load_rows(runner.run("k", cells, repeats=1, out=tmp_path, progress=False,
+                                known_failure=known))
+    status = {r["peer"]: (r["status"], r["detail"]) for r in rows}
+    assert status["qhull-2d"] == ("skipped", "known timeout") and status["lfqt-dc"][0] == "ok"
+    from experiments import fig3
+    assert fig3.known_failure("default", Cell("qhull-2d", "circle", 100_000))
+    assert fig3.known_failure("paper", Cell("qhull-2d", "circle", 100_000)) is None
