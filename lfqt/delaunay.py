@@ -48,6 +48,29 @@ def _locate(xs, ys, simplices, neighbors, qx, qy, start):
     return out
 
 
+def _locate_rational(points, simplices, neighbors, q):
+    """The visibility walk of ``_locate`` for one query, with orientation in
+    exact rational arithmetic on the original coordinates: for the rare query
+    that the rescaled frame cannot hold exactly.  The walk terminates on a
+    Delaunay triangulation."""
+    from fractions import Fraction
+    qx, qy = Fraction(float(q[0])), Fraction(float(q[1]))
+    t = 0
+    for _ in range(4 * len(simplices) + 4):
+        for i in range(3):
+            a, b = simplices[t, (i + 1) % 3], simplices[t, (i + 2) % 3]
+            ax, ay = Fraction(float(points[a, 0])), Fraction(float(points[a, 1]))
+            bx, by = Fraction(float(points[b, 0])), Fraction(float(points[b, 1]))
+            if (ax - qx) * (by - qy) - (ay - qy) * (bx - qx) < 0:
+                t = neighbors[t, i]
+                break
+        else:
+            return t
+        if t < 0:
+            return -1
+    return -1
+
+
 class Delaunay:
     """Drop-in for the common use of ``scipy.spatial.Delaunay`` in 2D.
 
@@ -96,24 +119,36 @@ class Delaunay:
         owner[self.simplices.ravel()] = np.repeat(np.arange(self.nsimplex), 3)
         return np.stack((rows, owner[dup[rows]], dup[rows]), axis=1).astype(np.int32)
 
-    def find_simplex(self, xi):
-        q = np.asarray(xi, dtype=np.float64)
+    def find_simplex(self, xi, bruteforce=False, tol=None):
+        """Index of a triangle containing each point of ``xi`` (..., 2), -1
+        outside the hull or for NaN, as scipy's.  Exact: the answer always
+        contains the query.  ``bruteforce`` and ``tol`` are accepted for
+        scipy's signature; an exact answer needs neither."""
+        q = np.asanyarray(xi, dtype=np.float64)
+        if q.shape[-1] != 2:
+            raise ValueError("wrong dimensionality in xi")
         shape = q.shape[:-1]
         q = q.reshape(-1, 2)
-        if not np.isfinite(q).all():
-            raise ValueError("query points must be finite")
-        # Outside the bounding box needs no predicate (and could overflow one).
+        found = np.full(len(q), -1, dtype=np.int64)
+        # NaN and points outside the bounding box are outside: no predicate
+        # (and none that could overflow)
         inside = ((q[:, 0] >= self._lo[0]) & (q[:, 0] <= self._hi[0])
                   & (q[:, 1] >= self._lo[1]) & (q[:, 1] <= self._hi[1]))
-        qx = np.ascontiguousarray(q[inside, 0]) * self._scale
-        qy = np.ascontiguousarray(q[inside, 1]) * self._scale
-        mags = np.abs(np.concatenate((qx, qy)))
-        if np.any((mags > 0) & (mags < 2.0 ** (MIN_ULP_EXP + 52))):
-            raise ValueError("query coordinates are too small relative to the triangulated "
-                             "points for exact predicates")
-        found = np.full(len(q), -1, dtype=np.int64)
-        found[inside] = _locate(self._xs, self._ys, self._simplices64, self._neighbors64,
-                                qx, qy, 0)
+        qx = q[:, 0] * self._scale
+        qy = q[:, 1] * self._scale
+        # A query the rescale would round, or move below the exactness
+        # window, is located exactly on the original coordinates instead.
+        floor = 2.0 ** (MIN_ULP_EXP + 52)
+        representable = np.ones(len(q), dtype=bool)
+        for scaled, orig in ((qx, q[:, 0]), (qy, q[:, 1])):
+            representable &= (scaled / self._scale == orig) & \
+                ((scaled == 0.0) | (np.abs(scaled) >= floor))
+        fast = inside & representable
+        found[fast] = _locate(self._xs, self._ys, self._simplices64, self._neighbors64,
+                              np.ascontiguousarray(qx[fast]), np.ascontiguousarray(qy[fast]), 0)
+        for k in np.flatnonzero(inside & ~representable):
+            found[k] = _locate_rational(self.points, self._simplices64, self._neighbors64,
+                                        q[k])
         return found.astype(np.int32).reshape(shape)
 
     @property

@@ -112,3 +112,37 @@ def test_find_simplex_on_scaled_input():
     d = lfqt.Delaunay(pts)
     assert np.all(d.find_simplex(pts) >= 0)
     assert d.find_simplex([[1.0, 1.0]])[0] == -1
+
+
+def _contains(pts, simplex, q):
+    """Exactly: does the counter-clockwise triangle ``simplex`` contain q?"""
+    from fractions import Fraction as F
+    a, b, c = (pts[v] for v in simplex)
+
+    def orient(p, r, s):
+        return (F(p[0]) - F(s[0])) * (F(r[1]) - F(s[1])) - (F(p[1]) - F(s[1])) * (F(r[0]) - F(s[0]))
+    return orient(a, b, q) >= 0 and orient(b, c, q) >= 0 and orient(c, a, q) >= 0
+
+
+def test_find_simplex_is_exact_for_queries_the_rescale_cannot_hold(rng):
+    """Queries 1e-300 from the origin among points of magnitude 1e100 underflow
+    in the rescaled frame; (1e-60, 0.5) on unit data lies below its window."""
+    big = np.r_[rng.uniform(-1e100, 1e100, (200, 2)), [[0.0, 0.0]]]
+    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    tiny = 1e-300 * np.c_[np.cos(ang), np.sin(ang)]
+    unit = np.r_[rng.random((200, 2)), [[0.0, 0.0], [1, 0], [0, 1], [1, 1]]]
+    for pts, qs in ((big, tiny), (unit, np.array([[1e-60, 0.5], [0.5, 1e-300], [1e-320, 1e-320]]))):
+        d = lfqt.Delaunay(pts)
+        found = d.find_simplex(qs)
+        assert all(t >= 0 and _contains(pts, d.simplices[t], q) for t, q in zip(found, qs))
+
+
+def test_find_simplex_follows_scipy_on_nan_and_bad_shapes(rng):
+    d = lfqt.Delaunay(rng.random((50, 2)))
+    assert d.find_simplex([[np.nan, 0.5], [0.5, np.nan]]).tolist() == [-1, -1]
+    with pytest.raises(IndexError):
+        d.find_simplex(1)
+    with pytest.raises(ValueError, match="dimensionality"):
+        d.find_simplex([[0.1, 0.2, 0.3]])
+    q = rng.random((20, 2))
+    assert np.array_equal(d.find_simplex(q, bruteforce=True, tol=1e-12), d.find_simplex(q))
