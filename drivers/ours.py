@@ -18,6 +18,8 @@ def _build_info():
 def _result(tri):
     counts = dict(tri.stats.get("counts", {}))
     counts.update({f"seconds_{k}": v for k, v in tri.stats["seconds"].items()})
+    # paper 1's Fig. 5 phases (thread-seconds in the bins, wall time in the top)
+    counts.update({f"phase_{k}": v for k, v in tri.stats.get("phases", {}).items()})
     return Result(tri.simplices, counts)
 
 

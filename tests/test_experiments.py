@@ -124,3 +124,18 @@ def test_known_failures_are_recorded_with_their_reason_not_waited_for(tmp_path):
     from experiments import fig3
     assert fig3.known_failure("default", Cell("qhull-2d", "circle", 100_000))
     assert fig3.known_failure("paper", Cell("qhull-2d", "circle", 100_000)) is None
+
+
+def test_fig5_phases_add_up_and_the_top_appears_with_threads(tmp_path, capsys):
+    from experiments import fig5
+    assert fig5.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
+                      "--dists", "uniform,grid", "--threads", "2"]) == 0
+    rows = load_rows(tmp_path / "smoke" / "fig5")
+    assert {(r["distribution"], r["threads"]) for r in rows} == {
+        (d, t) for d in ("uniform", "grid") for t in (1, 2)}
+    for r in rows:
+        sh = fig5.shares(r["counts"], r["threads"])
+        assert abs(sum(sh.values()) - 100) < 1e-6 and min(sh.values()) >= 0
+        top = sh["subdivide (top)"] + sh["merge (top)"]
+        assert top > 0 if r["threads"] > 1 else top == 0
+    assert (tmp_path / "smoke" / "figures" / "fig5.png").stat().st_size > 20000
