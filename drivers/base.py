@@ -151,4 +151,5 @@ class CompiledPeer(Peer):
         import numpy as np
         simplices = np.load(self.out_path)
         shutil.rmtree(self.tmp, ignore_errors=True)
-        return Result(simplices, self.counts(self.report), {"tsc_cycles": self.report["tsc_cycles"]})
+        return Result(simplices, self.counts(self.report),
+                      {"tsc_cycles": self.report["tsc_cycles"]})

@@ -25,7 +25,8 @@ TARGET = 1.5
 
 
 def grid(scale, threads):
-    return [Cell(peer, dist, n, threads=threads) for n in SIZES[scale] for _, dist, ours, cgal in SETUPS
+    return [Cell(peer, dist, n, threads=threads) for n in SIZES[scale]
+            for _, dist, ours, cgal in SETUPS
             for peer in [ours] + cgal]
 
 

@@ -65,11 +65,13 @@ class Experiment:
         ap.add_argument("--scale", choices=SCALES, default="default")
         ap.add_argument("--threads", type=int, default=1,
                         help="threads for the peers that take them (an error for the others)")
-        ap.add_argument("--peers", type=lambda s: s.split(","), help="registry keys, comma separated")
+        ap.add_argument("--peers", type=lambda s: s.split(","),
+                        help="registry keys, comma separated")
         ap.add_argument("--repeats", type=int, default=self.repeats,
                         help="timed runs per cell and round")
         ap.add_argument("--rounds", type=int, default=self.rounds,
-                        help="measure the whole grid this many times, interleaving the peers in time")
+                        help="measure the whole grid this many times, interleaving the peers "
+                             "in time")
         ap.add_argument("--sizes", type=lambda s: [int(float(v)) for v in s.split(",")],
                         help="keep only these sizes of the scale's grid, e.g. 1e5,1e6")
         ap.add_argument("--dists", type=lambda s: s.split(","),

@@ -23,7 +23,8 @@ def known_failure(scale, cell):
     """Qhull on Circle (nearly cocircular points) runs far past the default
     scale's cell timeout (120 s at 100k, measured): not waited for again."""
     if cell.peer.startswith("qhull") and cell.distribution == "circle" and scale != "paper":
-        return "known timeout: Qhull needs far more than the cell's 120 s on nearly cocircular points"
+        return ("known timeout: Qhull needs far more than the cell's 120 s on nearly cocircular "
+                "points")
     return None
 
 

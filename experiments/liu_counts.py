@@ -26,7 +26,8 @@ COLORS = {"kdtree": "#1b6ca8", "brio": "#d1495b", "hilbert": "#66a182"}
 
 
 def grid(scale, threads):
-    return [Cell(peer, model, n, threads=threads, count=True) for model in TABLES for n in SIZES[scale]
+    return [Cell(peer, model, n, threads=threads, count=True)
+            for model in TABLES for n in SIZES[scale]
             for _, ours, cgal in ORDERS for peer in (ours, cgal)]
 
 
@@ -41,7 +42,8 @@ def published_counts():
     """{(model, order, n, metric): value} of Tables 8 to 14."""
     tables = {t: m for m, t in TABLES.items()}
     return {(tables[r["table"]], r["order"], int(r["n"]), r["metric"]): float(r["value"])
-            for r in results.published("liu2013").to_dict("records") if r["table"] in tables and r["value"]}
+            for r in results.published("liu2013").to_dict("records")
+            if r["table"] in tables and r["value"]}
 
 
 def plot(df, out):

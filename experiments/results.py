@@ -19,7 +19,8 @@ FLOATS = ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes", "b
 CELL = ["peer", "distribution", "n", "count"]  # what a summary groups by
 # The variants of each 2D peer family; a headline ratio is against the
 # fastest variant measured in the same run, and names it.
-VARIANTS_2D = {"CGAL": ("cgal-dt2", "cgal-dt2-indexed"), "Triangle": ("triangle-native", "triangle")}
+VARIANTS_2D = {"CGAL": ("cgal-dt2", "cgal-dt2-indexed"),
+               "Triangle": ("triangle-native", "triangle")}
 
 
 def atomic_write(path, text):
