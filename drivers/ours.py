@@ -28,10 +28,13 @@ class LfqtDC(Peer):
     options = ("threads",)
     bytes_per_point = 300
 
-    def __init__(self, subdivision="lfqt"):
+    def __init__(self, subdivision="lfqt", filter="level"):
         self.subdivision = subdivision
+        self.filter = filter  # the stage-1 bound: the LFQT's level bound or Triangle's constant
         self.threads = 1
         self.name = "lfqt-dc" if subdivision == "lfqt" else f"lfqt-dc-{subdivision}"
+        if filter != "level":
+            self.name += f"-{filter}"
 
     def version(self):
         return lfqt.__version__
@@ -48,7 +51,7 @@ class LfqtDC(Peer):
     def run(self):
         self.tri = None  # the previous result must not inflate this run's peak memory
         self.tri = lfqt.triangulate(self.points, subdivision=self.subdivision,
-                                    threads=self.threads, counters=self.count)
+                                    threads=self.threads, counters=self.count, filter=self.filter)
 
     def result(self):
         return _result(self.tri)
@@ -87,5 +90,6 @@ class LfqtInsert(Peer):
 
 
 PEERS = {"lfqt-dc": lambda: LfqtDC("lfqt"),
+         "lfqt-dc-constant": lambda: LfqtDC("lfqt", "constant"),
          "lfqt-dc-alternating": lambda: LfqtDC("alternating")}
 PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})

@@ -139,3 +139,17 @@ def test_fig5_phases_add_up_and_the_top_appears_with_threads(tmp_path, capsys):
         top = sh["subdivide (top)"] + sh["merge (top)"]
         assert top > 0 if r["threads"] > 1 else top == 0
     assert (tmp_path / "smoke" / "figures" / "fig5.png").stat().st_size > 20000
+
+
+def test_table1_counts_each_configuration_and_prints_the_paper_beside(tmp_path, capsys):
+    from experiments import table1
+    assert table1.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
+                        "--dists", "uniform,grid"]) == 0
+    rows = load_rows(tmp_path / "smoke" / "table1")
+    counted = {(r["peer"], r["distribution"]): r["counts"] for r in rows if r["count"]}
+    assert set(counted) == {(p, d) for _, p in table1.CONFIGS for d in ("uniform", "grid")}
+    grid = {p: c["incircle_stage1_undecided"] for (p, d), c in counted.items() if d == "grid"}
+    assert all(v > 0 for v in grid.values())  # cocircular grid cells reach stage 2 in all three
+    assert grid["lfqt-dc"] <= grid["lfqt-dc-constant"]  # the level bound never leaves more
+    text = capsys.readouterr().out
+    assert "11520820" in text and "run-time effect of the level bound" in text
