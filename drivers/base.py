@@ -9,7 +9,16 @@ through ``self_timing()``, and the runner prefers it to its own clock.
 Each peer family is one module of this package with a ``PEERS`` dict
 (registry name -> factory); ``drivers.REGISTRY`` collects them.
 """
+import json
+import os
+import shutil
+import subprocess
+import tempfile
 from dataclasses import dataclass, field
+
+import numpy as np
+
+from .isolate import die_with_parent
 
 
 class Unavailable(RuntimeError):
@@ -106,17 +115,12 @@ class CompiledPeer(Peer):
         info_path = self.binary.parent / "build_info.json" if self.binary else None
         if info_path is None or not info_path.exists():
             return {}
-        import json
         return json.loads(info_path.read_text())
 
     def version(self):
         return self.build_info().get("version", "")
 
     def prepare(self, points, order=None, count=False):
-        import os
-        import tempfile
-
-        import numpy as np
         self.check()
         self.tmp = tempfile.mkdtemp(prefix=f"lfqt-{self.family}-")
         points_path = os.path.join(self.tmp, "points.npy")
@@ -127,10 +131,6 @@ class CompiledPeer(Peer):
         self.extra_seconds = 0.0  # work of ours inside the timed run (an order we build)
 
     def run(self):
-        import json
-        import subprocess
-
-        from .isolate import die_with_parent
         proc = subprocess.run(self.command, capture_output=True, text=True,
                               preexec_fn=die_with_parent)
         if proc.returncode != 0:
@@ -146,9 +146,6 @@ class CompiledPeer(Peer):
         return max(self.report["peak_rss_bytes"] - self.report["baseline_rss_bytes"], 0)
 
     def result(self):
-        import shutil
-
-        import numpy as np
         simplices = np.load(self.out_path)
         shutil.rmtree(self.tmp, ignore_errors=True)
         return Result(simplices, self.counts(self.report),

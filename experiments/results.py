@@ -73,11 +73,6 @@ def load(out_dir):
     return df
 
 
-def metadata(out_dir):
-    path = Path(out_dir) / "metadata.json"
-    return json.loads(path.read_text()) if path.exists() else {}
-
-
 def summarize(df, by=CELL):
     """One row per cell (grouped by ``by``), pooled over rounds and repeats:
     status and detail of its first row, median and min seconds of the ok

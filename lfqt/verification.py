@@ -343,9 +343,9 @@ def _int_array(value, name, problems):
         return None
 
 
-def _shape_problems(P, tri, kind):
+def _shape_problems(P, tri):
     """Every array's shape and index range, checked before anything reads
-    through them: (simplices, neighbors, dup, hull, problems)."""
+    through them: (simplices, neighbors, dup, problems)."""
     n, width = len(P), P.shape[1] + 1
     problems = []
     simplices = _int_array(getattr(tri, "simplices", None), "simplices", problems)
@@ -373,7 +373,7 @@ def _shape_problems(P, tri, kind):
         problems.append(f"duplicate_of must be {n} indices in [0, {n})")
     if hull is not None and hull.size and (hull.min() < 0 or hull.max() >= n):
         problems.append(f"hull holds vertex indices outside [0, {n})")
-    return simplices, neighbors, dup, hull, problems
+    return simplices, neighbors, dup, problems
 
 
 def _start(P, tri, kind):
@@ -381,7 +381,7 @@ def _start(P, tri, kind):
     ``duplicate_of``.  Returns (simplices, neighbors, dup, distinct,
     problems, checks, counts), or a failed VerifyReport."""
     n = len(P)
-    simplices, neighbors, dup, hull, problems = _shape_problems(P, tri, kind)
+    simplices, neighbors, dup, problems = _shape_problems(P, tri)
     checks = {"indices": not problems}
     counts = {kind: int(len(simplices)) if simplices is not None else 0, "points": int(n)}
     if problems:
