@@ -146,3 +146,189 @@ def test_find_simplex_follows_scipy_on_nan_and_bad_shapes(rng):
         d.find_simplex([[0.1, 0.2, 0.3]])
     q = rng.random((20, 2))
     assert np.array_equal(d.find_simplex(q, bruteforce=True, tol=1e-12), d.find_simplex(q))
+
+
+# -- the scipy.spatial.Delaunay interface, 2D and 3D --------------------------
+
+def _built(points, **kwargs):
+    """lfqt.Delaunay of points, its mesh verified exactly."""
+    d = lfqt.Delaunay(points, **kwargs)
+    report = lfqt.verify(points, d.triangulation)
+    assert report.ok, report.problems[:3]
+    return d
+
+
+def _simplex_set(simplices):
+    """Simplices as vertex sets (scipy does not fix the 3D orientation)."""
+    return {frozenset(s) for s in np.asarray(simplices).tolist()}
+
+
+def _facet_neighbours(simplices, neighbors):
+    """{(simplex as frozenset, facet as frozenset): neighbour as frozenset or None}."""
+    out = {}
+    for s, nb in zip(simplices.tolist(), neighbors.tolist()):
+        for i, t in enumerate(nb):
+            facet = frozenset(s[:i] + s[i + 1:])
+            out[(frozenset(s), facet)] = frozenset(simplices[t].tolist()) if t >= 0 else None
+    return out
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_every_attribute_agrees_with_scipy_on_random_sets(dim, rng):
+    pts = rng.random((400, dim))
+    ours, theirs = _built(pts), scipy.spatial.Delaunay(pts)
+    assert (ours.ndim, ours.npoints, ours.nsimplex) == (theirs.ndim, theirs.npoints,
+                                                        theirs.nsimplex)
+    assert _simplex_set(ours.simplices) == _simplex_set(theirs.simplices)
+    assert _facet_neighbours(ours.simplices, ours.neighbors) == \
+        _facet_neighbours(theirs.simplices, theirs.neighbors)
+    for name in ("simplices", "neighbors", "convex_hull", "coplanar", "vertex_to_simplex",
+                 "good"):
+        assert getattr(ours, name).dtype == getattr(theirs, name).dtype, name
+    assert {frozenset(f) for f in ours.convex_hull.tolist()} == \
+        {frozenset(f) for f in theirs.convex_hull.tolist()}
+    assert np.array_equal(ours.min_bound, theirs.min_bound)
+    assert np.array_equal(ours.max_bound, theirs.max_bound)
+    assert ours.furthest_site is False and ours.good.shape == (ours.nsimplex,)
+    assert ours.equations.shape == theirs.equations.shape
+    assert ours.transform.shape == theirs.transform.shape
+    # matching simplices: barycentric coordinates per vertex, and the side
+    # of each hyperplane (inside or outside the circumsphere), agree
+    index = {frozenset(s): k for k, s in enumerate(theirs.simplices.tolist())}
+    q = rng.random((50, dim))
+    dist_ours, dist_theirs = ours.plane_distance(q), theirs.plane_distance(q)
+    assert dist_ours.shape == (50, ours.nsimplex)
+    for k, s in enumerate(ours.simplices.tolist()):
+        j = index[frozenset(s)]
+        clear = np.abs(dist_theirs[:, j]) > 1e-9
+        assert np.array_equal(np.sign(dist_ours[clear, k]), np.sign(dist_theirs[clear, j]))
+        for tr, simplex, t in ((ours.transform, s, k), (theirs.transform, theirs.simplices[j], j)):
+            c = tr[t, :dim] @ (q[0] - tr[t, dim])
+            bary = dict(zip(np.asarray(simplex).tolist(), np.r_[c, 1 - c.sum()]))
+            if tr is ours.transform:
+                mine = bary
+        assert all(abs(mine[v] - bary[v]) < 1e-8 for v in mine)
+    v2s = ours.vertex_to_simplex
+    assert all(v in ours.simplices[v2s[v]] for v in range(len(pts)))
+    lifted = ours.lift_points(q)
+    assert lifted.shape == (50, dim + 1)
+    assert np.allclose(lifted[:, -1], (q ** 2).sum(1) * ours.paraboloid_scale
+                       + ours.paraboloid_shift)
+    assert np.allclose(ours.plane_distance(ours.points[ours.simplices[:, 0]])
+                       [np.arange(ours.nsimplex), np.arange(ours.nsimplex)], 0, atol=1e-12)
+
+
+def _contains_exact(pts, simplex, q):
+    """Exactly: does the positively oriented simplex contain q (2D or 3D)?"""
+    from lfqt.location import _orient
+    from fractions import Fraction as F
+    verts = [[F(float(c)) for c in pts[v]] for v in simplex]
+    qf = [F(float(c)) for c in q]
+    return all(_orient(verts[:i] + [qf] + verts[i + 1:]) >= 0 for i in range(len(verts)))
+
+
+def test_find_simplex_in_3d_is_exact_and_agrees_with_scipy(rng):
+    pts = rng.random((500, 3))
+    ours, theirs = _built(pts), scipy.spatial.Delaunay(pts)
+    q = np.r_[rng.random((300, 3)) * 1.2 - 0.1, pts[:30]]
+    found = ours.find_simplex(q)
+    assert found.dtype == theirs.find_simplex(q).dtype
+    for t, x in zip(found, q):
+        if t >= 0:
+            assert _contains_exact(pts, ours.simplices[t], x)
+    clear = np.abs(theirs.plane_distance(q)).min(axis=1) > 1e-9
+    assert np.array_equal((found < 0)[clear], (theirs.find_simplex(q) < 0)[clear])
+    assert np.array_equal(ours.find_simplex(q, bruteforce=True) >= 0, found >= 0)
+    assert ours.find_simplex(q.reshape(-1, 3, 3)).shape == (len(q) // 3, 3)
+    assert ours.find_simplex([np.nan, 0.5, 0.5]) == -1
+
+
+def test_find_simplex_in_3d_for_queries_the_rescale_cannot_hold(rng):
+    pts = np.r_[rng.uniform(-1e80, 1e80, (100, 3)), [[0.0, 0.0, 0.0]]]
+    d = _built(pts)
+    q = 1e-300 * rng.standard_normal((5, 3))
+    found = d.find_simplex(q)
+    assert all(t >= 0 and _contains_exact(pts, d.simplices[t], x) for t, x in zip(found, q))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_tolerance_only_widens_toward_scipy(dim, rng):
+    pts = np.r_[np.eye(dim), np.zeros((1, dim))]  # the unit simplex
+    d = _built(pts)
+    outside = np.full(dim, 1.0 / dim) + 1e-13  # just beyond the far facet
+    assert d.find_simplex(outside) == -1
+    assert d.find_simplex(outside, tol=1e-10) == 0
+    assert d.find_simplex(np.full(dim, 2.0), tol=1e-10) == -1
+    assert d.find_simplex(np.full(dim, 0.1), tol=1e-10) == 0
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_simplex_and_grid_as_scipys_tests_do_in_2d_and_3d(dim):
+    pts = np.r_[np.eye(dim), np.ones((1, dim))]
+    d = _built(pts)
+    assert np.array_equal(np.sort(d.simplices, axis=1), [list(range(dim + 1))])
+    assert np.array_equal(d.neighbors, -np.ones((1, dim + 1), dtype=int))
+    x = np.linspace(0, 1, {2: 70, 3: 11}[dim])
+    grid = np.stack(np.meshgrid(*[x] * dim, indexing="ij"), -1).reshape(-1, dim)
+    for g in (grid, np.r_[grid, grid]):
+        d = _built(g)
+        centroids = g[d.simplices].mean(axis=1)
+        assert (d.find_simplex(centroids) >= 0).all()
+        c = np.einsum("ijk,ik->ij", d.transform[:, :dim], centroids - d.transform[:, dim])
+        assert np.allclose(c, 1.0 / (dim + 1), rtol=0.1)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_incremental_mode_rebuilds_exactly_and_closes(dim, rng):
+    chunks = [rng.random((dim + 2, dim)), rng.random((30, dim)), np.eye(dim), rng.random((5, dim))]
+    d = lfqt.Delaunay(chunks[0], incremental=True)
+    assert (d.paraboloid_scale, d.paraboloid_shift) == (1.0, 0.0)
+    for c in chunks[1:]:
+        d.add_points(c)
+    union = np.concatenate(chunks)
+    assert lfqt.verify(union, d.triangulation).ok
+    assert d.npoints == len(union) and np.array_equal(d.points, union)
+    assert _simplex_set(d.simplices) == _simplex_set(scipy.spatial.Delaunay(union).simplices)
+    restarted = lfqt.Delaunay(chunks[0], incremental=True)
+    restarted.add_points(np.concatenate(chunks[1:]), restart=True)
+    assert _simplex_set(restarted.simplices) == _simplex_set(d.simplices)
+    with pytest.raises(ValueError, match="invalid size"):
+        d.add_points(rng.random((3, dim + 1)))
+    d.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        d.add_points(chunks[1])
+    with pytest.raises(RuntimeError, match="not enabled"):
+        lfqt.Delaunay(chunks[1]).add_points(chunks[2])
+
+
+def test_options_and_errors_follow_scipy(rng):
+    pts = rng.random((20, 2))
+    with pytest.warns(UserWarning, match="'QJ Pp'"):
+        lfqt.Delaunay(pts, qhull_options="QJ Pp")
+    with pytest.raises(NotImplementedError, match="furthest"):
+        lfqt.Delaunay(pts, furthest_site=True)
+    with pytest.raises(ValueError, match="dimensions"):
+        lfqt.Delaunay(rng.random((4, 10, 3)))
+    with pytest.raises(ValueError, match="2 or 3 dimensions"):
+        lfqt.Delaunay(rng.random((10, 4)))
+    with pytest.raises(ValueError, match="masked"):
+        lfqt.Delaunay(np.ma.masked_all((4, 2)))
+    with pytest.raises(scipy.spatial.QhullError):  # code written for scipy catches it
+        lfqt.Delaunay(np.zeros((4, 3)))
+    with pytest.raises(lfqt.DegenerateInputError, match="coplanar"):
+        lfqt.Delaunay(np.c_[rng.random((10, 2)), np.zeros(10)])
+    d = lfqt.Delaunay(pts)
+    with pytest.raises(IndexError):
+        d.find_simplex(d)
+    with pytest.raises(ValueError, match="dimensionality"):
+        d.plane_distance(np.zeros(3))
+
+
+def test_duplicates_are_coplanar_and_map_to_their_twins_simplex(rng):
+    base = rng.random((10, 3))
+    d = _built(np.r_[base, base])
+    assert len(d.coplanar) == 10 and len(np.unique(d.simplices)) == 10
+    for row, simplex, twin in d.coplanar:
+        assert twin == row - 10 and twin in d.simplices[simplex]
+        assert d.vertex_to_simplex[row] == simplex
+    assert (d.vertex_to_simplex >= 0).all()

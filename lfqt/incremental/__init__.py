@@ -69,6 +69,8 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
     else:
         simplices, neighbors, hull, dup_of, reason = _degenerate(P)
         degenerate = True
+    if not degenerate and np.any(dup_of != np.arange(n)):
+        simplices, hull, dup_of = _first_of_duplicates(simplices, hull, dup_of)
     t4 = time.perf_counter()
     stats = {
         "seconds": {"validate": t1 - t0, "order": t2 - t1, "insert": t3 - t2,
@@ -100,6 +102,17 @@ def _order(P, order, hint, seed):
         return perm, hints, "explicit"
     perm, hints = orders.order(P, order, hint=hint or "parent", seed=seed)
     return perm, hints, order
+
+
+def _first_of_duplicates(simplices, hull, dup_of):
+    """Make the smallest input index of each set of equal points its
+    vertex, as the divide and conquer does (the inserter keeps whichever it
+    met first)."""
+    first = np.arange(len(dup_of))
+    np.minimum.at(first, dup_of, np.arange(len(dup_of)))
+    dtype = simplices.dtype
+    return (first[simplices].astype(dtype), first[hull].astype(hull.dtype),
+            first[dup_of].astype(dup_of.dtype))
 
 
 def _degenerate(P):
