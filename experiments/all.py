@@ -1,4 +1,5 @@
-"""The main job: every experiment of the registry's main job at one scale.
+"""The main job: every experiment of the registry's main job at one scale,
+then the report (experiments.report) from their results.
 
     python -m experiments.all [--scale smoke|default|paper] [--force] [--out DIR]
 
@@ -8,6 +9,7 @@ import argparse
 import sys
 import time
 
+from . import report
 from .experiment import SCALES, results_root
 from .registry import main_job
 
@@ -28,9 +30,11 @@ def main(argv=None):
         print(f"== {exp.name} ({args.scale}) ==", flush=True)
         exp.main(extra)
     root = results_root(args.out, args.scale)
+    print("== report ==", flush=True)
+    report.main(["--scale", args.scale, "--out", args.out])
     print(f"\nDone in {time.time() - t0:.0f} s. Figures: {root}/figures/ "
           f"({', '.join(e.name for e in jobs)}; .png and .svg); tidy results and metadata: "
-          f"{root}/<experiment>/")
+          f"{root}/<experiment>/; the claims judged: {root}/REPORT.md")
     return 0
 
 

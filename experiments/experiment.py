@@ -20,12 +20,13 @@ TIMEOUTS = {"smoke": 60.0, "default": 120.0, "paper": 1800.0}
 class Experiment:
     name: str
     title: str
-    grid: Callable    # (scale, threads) -> [runner.Cell]
+    grid: Callable    # (scale, threads, **grid_options) -> [runner.Cell]
     plot: Callable    # (results DataFrame, out dir) -> [figure paths]; prints its table
     reproduces: tuple = ()  # published items, as in experiments.registry.PUBLISHED
     repeats: int = 3
     rounds: int = 1
     options: tuple = ()  # extra (flag, argparse keywords)
+    grid_options: tuple = ()  # names of extra options the grid takes as keywords
     setup: Callable = None  # (args, out_dir) before the grid is measured
     main_job: bool = False  # part of ``python -m experiments.all``
     # (scale, cell) -> why the cell is known to fail within the scale's cell
@@ -39,7 +40,8 @@ class Experiment:
 
     def cells(self, args):
         """The grid at ``args.scale``, narrowed by --peers, --sizes, --dists."""
-        cells = self.grid(args.scale, args.threads)
+        cells = self.grid(args.scale, args.threads,
+                          **{k: getattr(args, k) for k in self.grid_options})
         for flag, field in (("peers", "peer"), ("sizes", "n"), ("dists", "distribution")):
             wanted = getattr(args, flag)
             if wanted:

@@ -12,6 +12,7 @@ def machine_info():
     info = {"python": platform.python_version(), "platform": platform.platform(),
             "cores": os.cpu_count()}
     info.update(cpu_details())
+    info.update(topology())
     info["caches"] = cache_sizes()
     try:
         info["memory_bytes"] = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
@@ -52,6 +53,25 @@ def cpu_details():
                                                   ("cpu family", "model", "stepping")),
             "cpu_isa": sorted(flags & {"sse4_2", "avx", "avx2", "fma", "bmi2", "avx512f",
                                        "avx512vl", "amx_tile"})}
+
+
+def topology():
+    """{"logical_cpus", "physical_cores", "sockets"} from sysfs: a logical
+    CPU beyond the physical cores is an SMT sibling (paper 1, Fig. 6 marks
+    that boundary)."""
+    cores, sockets, logical = set(), set(), 0
+    for cpu in Path("/sys/devices/system/cpu").glob("cpu[0-9]*"):
+        try:
+            core = (cpu / "topology" / "core_id").read_text().strip()
+            package = (cpu / "topology" / "physical_package_id").read_text().strip()
+        except OSError:
+            continue
+        logical += 1
+        cores.add((package, core))
+        sockets.add(package)
+    if not logical:
+        return {"logical_cpus": os.cpu_count(), "physical_cores": os.cpu_count()}
+    return {"logical_cpus": logical, "physical_cores": len(cores), "sockets": len(sockets)}
 
 
 def cache_sizes():

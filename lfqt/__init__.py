@@ -4,13 +4,15 @@
     insert        2D/3D incremental insertion in a given order (lfqt.incremental)
     verify        exact proof that a mesh is the Delaunay triangulation (lfqt.verification)
     Delaunay      the scipy.spatial.Delaunay interface (lfqt.delaunay)
+    quadtree      the LFQT of a point set as a table (lfqt.dc.quadtree)
 """
 from .dc import triangulate
+from .dc.quadtree import quadtree
 from .delaunay import Delaunay
 from .incremental import insert
 from .triangulation import DegenerateInputError, Triangulation
 from .verification import VerifyReport, verify
 
 __all__ = ["triangulate", "insert", "Delaunay", "DegenerateInputError", "verify", "Triangulation",
-           "VerifyReport"]
+           "VerifyReport", "quadtree"]
 __version__ = "0.1.0"

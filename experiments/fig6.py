@@ -1,0 +1,132 @@
+"""Paper 1, Figure 6: speedup of lfqt against its own single-thread time,
+for a list of thread counts, on the five distributions; CGAL's parallel 3D
+Delaunay (cgal-dt3-parallel, TBB) as the one parallel peer (2D CGAL and
+Triangle have no parallel mode).
+
+Speedup is the median one-thread time over the median t-thread time of the
+same peer, distribution and size.  The figure marks where the thread count
+passes the machine's physical cores (SMT beyond), read from the stored
+metadata.  The paper's text: 13-14x on 16 cores, close to 17x on 16 cores
+with 32 threads for Uniform, Circle and Spiral, +30% from Hyperthreading.
+The right panel compares parallel efficiency (speedup / threads), the one
+quantity that carries over between a 2-core and a 32-thread machine."""
+import json
+import os
+import sys
+
+import numpy as np
+
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
+
+DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+SIZES = {"smoke": 100_000, "default": 1_000_000, "paper": 10_000_000}
+SIZES_3D = {"smoke": 30_000, "default": 300_000, "paper": 1_000_000}
+PUBLISHED = [(16, 13.0, 14.0, "16 cores: 13-14x"), (32, 17.0, 17.0, "16c/32t: ~17x")]
+COLORS = dict(uniform="#1b6ca8", grid="#3aa655", cluster="#d1495b", circle="#edae49",
+              spiral="#7b3294")
+
+
+def default_counts():
+    """Powers of two up to the logical CPUs, plus the physical core count
+    and the logical CPU count."""
+    from .machine import topology
+    top = topology()
+    logical = top["logical_cpus"] or os.cpu_count() or 1
+    counts = {1, logical, top["physical_cores"] or logical}
+    t = 2
+    while t < logical:
+        counts.add(t)
+        t *= 2
+    return sorted(counts)
+
+
+def grid(scale, threads, thread_counts=None):
+    counts = sorted(set(thread_counts or default_counts()) | {1})
+    cells = [Cell("lfqt-dc", d, SIZES[scale], threads=t) for d in DISTS for t in counts]
+    cells += [Cell("cgal-dt3-parallel", "cube", SIZES_3D[scale], threads=t) for t in counts]
+    return cells
+
+
+def speedups(df):
+    """{(peer, distribution, n): [(threads, speedup, median seconds)]}."""
+    summary = results.summarize(df, by=["peer", "distribution", "n", "threads"])
+    out = {}
+    for (peer, dist, n, t), row in summary.iterrows():
+        if row["status"] == "ok" and row["median"]:
+            out.setdefault((peer, dist, n), []).append((t, row["median"]))
+    series = {}
+    for key, pts in out.items():
+        base = dict(pts).get(1)
+        if base:
+            series[key] = [(t, base / m, m) for t, m in sorted(pts)]
+    return series
+
+
+def _topology(out):
+    try:
+        meta = json.loads((out / "fig6" / "metadata.json").read_text())
+    except (OSError, ValueError):
+        return None, None
+    return meta.get("physical_cores"), meta.get("logical_cpus")
+
+
+def plot(df, out):
+    import matplotlib.pyplot as plt
+    series = speedups(df)
+    physical, logical = _topology(out)
+    fig, (ax, eff) = plt.subplots(1, 2, figsize=(12, 4.6), gridspec_kw=dict(width_ratios=(3, 2)))
+    tmax = max([t for s in series.values() for t, _, _ in s] + [2])
+    print(f"\n{'peer':18} {'distribution':12} {'n':>10} " + " ".join(
+        f"{'t=' + str(t):>8}" for t in sorted({t for s in series.values() for t, _, _ in s}))
+        + "   (speedup over 1 thread)")
+    for (peer, dist, n), s in sorted(series.items()):
+        t, sp, _ = map(np.array, zip(*s))
+        lfqt = peer == "lfqt-dc"
+        kw = dict(color=COLORS.get(dist, "black"), marker="o") if lfqt else \
+            dict(color="black", ls=":", marker="s")
+        label = f"{dist} ({n:,})" if lfqt else f"{peer}, 3D {dist} ({n:,})"
+        ax.plot(t, sp, label=label, **kw)
+        eff.plot(t, sp / t, **kw)
+        print(f"{peer:18} {dist:12} {n:>10,} " + " ".join(f"{v:8.2f}" for v in sp))
+    ax.plot([1, tmax], [1, tmax], color="#999999", lw=0.8, ls="--", label="linear")
+    for a in (ax, eff):
+        top = a.get_ylim()[1] if a is ax else 1.08
+        for lo, hi, text, shade in ((physical, logical, " SMT", "#eeeeee"),
+                                    (logical, tmax, " more threads than CPUs", "#f7e1e1")):
+            if lo and hi and lo < hi:
+                a.axvspan(lo, hi, color=shade, zorder=0)
+                a.text(lo, top, text, va="top", fontsize=8)
+        a.set_xscale("log", base=2)
+        a.set_xlabel("threads")
+        a.set_xticks(sorted({t for s in series.values() for t, _, _ in s}))
+        a.get_xaxis().set_major_formatter(plt.ScalarFormatter())
+    ax.set_ylabel("speedup over one thread")
+    where = f"{physical} physical cores, {logical} logical CPUs" if physical else "topology unknown"
+    ax.set_title(f"this machine ({where})", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    for t, lo, hi, text in PUBLISHED:
+        eff.axhspan(lo / t, hi / t + 1e-3, color="#bdbdbd", alpha=0.6)
+        eff.text(eff.get_xlim()[0] if eff.get_xlim()[0] > 0 else 1, hi / t, f"paper, {text}",
+                 fontsize=7, va="bottom")
+    eff.set_ylim(0, 1.1)
+    eff.set_ylabel("parallel efficiency (speedup / threads)")
+    eff.set_title("efficiency; grey: the paper's stated 16-core and 32-thread values", fontsize=9)
+    fig.suptitle("Paper 1, Fig. 6: scaling with threads", fontsize=10)
+    fig.tight_layout()
+    return figure_paths(fig, out, "fig6")
+
+
+EXPERIMENT = Experiment(
+    "fig6", "speedup over one thread on the five distributions, CGAL's parallel 3D beside",
+    grid, plot, reproduces=(("Paper 1", "Fig. 6"),), main_job=True,
+    options=(("--thread-counts", dict(type=lambda s: [int(v) for v in s.split(",")],
+                                      help="comma-separated thread counts (default: powers of "
+                                           "two up to the logical CPUs, the physical core "
+                                           "count and the logical CPU count)")),),
+    grid_options=("thread_counts",))
+main = EXPERIMENT.main
+
+if __name__ == "__main__":
+    sys.exit(main())

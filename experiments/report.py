@@ -1,0 +1,376 @@
+"""The report: every published claim judged on this machine, from stored
+results only (nothing is measured here).
+
+    python -m experiments.report [--scale smoke|default|paper] [--out DIR]
+
+writes <root>/REPORT.md, root as for the experiments (results/ at the
+default scale, results/<scale>/ otherwise).  One row per claim: the
+published value, ours (with the scale and the experiment it comes from), a
+verdict (holds, partly, does not hold, not testable on this machine, not
+measured yet) and one line on why.  A claim whose experiment has not been
+run says which command measures it."""
+import argparse
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import results
+from .experiment import SCALES, results_root
+
+HOLDS, PARTLY, FAILS = "holds", "partly", "does not hold"
+UNTESTABLE, MISSING = "not testable on this machine", "not measured yet"
+ROUND = ("uniform", "grid", "cluster", "circle", "spiral")
+
+
+@dataclass
+class Row:
+    claim: str
+    published: str
+    ours: str
+    verdict: str
+    why: str
+    source: str = ""  # the experiment the row reads
+
+
+class Results:
+    """The stored results under one root, loaded once per experiment."""
+
+    def __init__(self, root):
+        self.root = Path(root)
+        self._frames = {}
+
+    def frame(self, name):
+        if name not in self._frames:
+            path = self.root / name / "results.csv"
+            self._frames[name] = results.load(path.parent) if path.exists() else None
+        return self._frames[name]
+
+    def summary(self, name, by=results.CELL):
+        df = self.frame(name)
+        return None if df is None or df.empty else results.summarize(df, by=by)
+
+    def meta(self, name):
+        try:
+            return json.loads((self.root / name / "metadata.json").read_text())
+        except (OSError, ValueError):
+            return {}
+
+
+def _missing(claim, published, name, why=""):
+    return Row(claim, published, "-", MISSING,
+               why or f"run `python -m experiments.{name}`", name)
+
+
+def _x(v):
+    return results.fmt_ratio(v)
+
+
+def fig3_ratios(res):
+    """Rows: lfqt 2.5x-3x faster than CGAL and Triangle at 100k; the CGAL
+    ratio changes only slightly with size; Triangle is not linear."""
+    claims = [("2.5x (Uniform) to 3x (Spiral) faster than CGAL and Triangle at 100k, more on "
+               "Grid", "2.5x uniform, 3x spiral, higher on grid (Sec. 4.1)"),
+              ("the CGAL/fqDel ratio changes only slightly with size",
+               "'changes only slightly in favor of fqDel' (Sec. 4.1)"),
+              ("Triangle does not scale linearly", "'clearly does not scale linearly' (Sec. 4.1)")]
+    s = res.summary("fig3")
+    if s is None:
+        return [_missing(c, p, "fig3") for c, p in claims]
+    sizes = sorted({k[2] for k in s.index})
+    ours = {(d, n): results.median(s, "lfqt-dc", d, n, False) for d in ROUND for n in sizes}
+
+    def best(family, d, n):
+        peer, t = results.fastest(s, results.VARIANTS_2D[family], d, n, False)
+        return peer, results.ratio(t, ours[(d, n)])
+    rows = []
+    if 100_000 in sizes:
+        parts, worst, short = [], np.inf, []
+        for d, target in (("uniform", 2.5), ("spiral", 3.0), ("grid", 3.0)):
+            for fam in ("CGAL", "Triangle"):
+                peer, r = best(fam, d, 100_000)
+                parts.append(f"{d} {fam} {_x(r)} ({peer})")
+                worst = min(worst, r / target if r == r else np.nan)
+                if r == r and r < target:
+                    short.append(f"{d}/{fam}")
+        verdict = HOLDS if worst >= 0.95 else PARTLY if worst > 1 / 2.5 else FAILS
+        if any(r.startswith("-") for r in parts):
+            verdict = MISSING
+        rows.append(Row(*claims[0], "; ".join(parts), verdict,
+                        "against each peer's fastest variant, -O3 -march=native; "
+                        + (f"short of the stated ratio: {', '.join(short)}; CGAL 5.x at its best "
+                           "is much closer than the paper's CGAL 4.2" if short else
+                           "every ratio at or above the stated one"), "fig3"))
+    else:
+        rows.append(_missing(*claims[0], "fig3", "needs 100k points: the default scale"))
+    if len(sizes) > 1:
+        spread = {}
+        for d in ROUND:
+            rs = [best("CGAL", d, n)[1] for n in sizes]
+            if all(r == r for r in rs):
+                spread[d] = rs
+        change = {d: max(r) / min(r) - 1 for d, r in spread.items()}
+        worst = max(change.values()) if change else np.nan
+        rows.append(Row(*claims[1][:2], "; ".join(
+            f"{d} " + " -> ".join(_x(r) for r in rs) for d, rs in spread.items())
+            + f" ({' -> '.join(f'{n:,}' for n in sizes)})",
+            HOLDS if worst <= 0.2 else PARTLY if worst <= 0.5 else FAILS,
+            f"largest change over the sizes {worst:.0%} (holds within 20%)", "fig3"))
+        growth = {}
+        for fam_or_ours in ("Triangle", "lfqt"):
+            g = []
+            for d in ROUND:
+                ts = [(ours[(d, n)] if fam_or_ours == "lfqt" else
+                       results.fastest(s, results.VARIANTS_2D["Triangle"], d, n, False)[1])
+                      for n in (sizes[0], sizes[-1])]
+                if all(ts):
+                    g.append((ts[1] / sizes[-1]) / (ts[0] / sizes[0]))
+            growth[fam_or_ours] = float(np.median(g)) if g else np.nan
+        tri, lf = growth["Triangle"], growth["lfqt"]
+        rows.append(Row(*claims[2][:2], f"time per point x{tri:.2f} for Triangle, x{lf:.2f} for "
+                        f"lfqt from {sizes[0]:,} to {sizes[-1]:,} (median over the sets)",
+                        HOLDS if tri > 1.05 and tri > lf else FAILS,
+                        "Triangle's per-point time grows with n (its O(n log n) pre-sort) "
+                        if tri > 1.05 else "Triangle's per-point time does not grow here", "fig3"))
+    else:
+        rows += [_missing(*c, "fig3", "needs two sizes: the default scale") for c in claims[1:]]
+    return rows
+
+
+def fig4_rates(res):
+    claims = [("the rate is flat over more than 6 orders of magnitude, apart from cache effects",
+               "flat from 1e3 to 5e8 but for the L1/L2 and L3 bends (Fig. 4)"),
+              ("Grid has the highest rate", "Grid highest, then Cluster, then Uniform (Fig. 4)"),
+              ("Cluster's rate rises at huge sizes",
+               "'slight increase ... towards huge input sizes', from degenerate points (Fig. 4)")]
+    df = res.frame("fig4")
+    if df is None or df.empty:
+        return [_missing(c, p, "fig4") for c, p in claims]
+    ok = df[(df["peer"] == "lfqt-dc") & (df["status"] == "ok")]
+    rate = (ok.groupby(["distribution", "n"])["seconds_at_3ghz"].min().dropna())
+    rate = rate.index.get_level_values("n") / rate / 1e6
+    caches = res.meta("fig4").get("caches", {})
+    sizes = sorted(ok["n"].unique())
+    # sizes whose working set (64 B per point) is past the last level cache
+    # measured, else past L2, where the paper's L3 bend would show
+    level, beyond = "L2", []
+    for name in ("L3", "L2"):
+        beyond = [n for n in sizes if n * 64 > 2 * caches.get(name, 2 ** 62)]
+        if len(beyond) >= 2:
+            level = name
+            break
+    orders = np.log10(sizes[-1] / sizes[0]) if sizes else 0
+    rows = []
+    if len(beyond) >= 2:
+        spans = {d: rate.loc[d].loc[beyond].max() / rate.loc[d].loc[beyond].min() - 1
+                 for d in ("uniform", "grid", "cluster") if d in rate.index.get_level_values(0)}
+        flat = max(spans.values()) <= 0.3
+        rows.append(Row(*claims[0], f"past {level} ({beyond[0]:,} to {beyond[-1]:,}) the rate varies "
+                        + ", ".join(f"{d} {v:.0%}" for d, v in spans.items())
+                        + f"; {orders:.1f} orders of magnitude measured",
+                        (HOLDS if orders >= 6 else PARTLY) if flat else FAILS,
+                        f"flat past {level} (within 30%)" + ("" if orders >= 6 else
+                        "; the paper scale measures the full range") if flat else
+                        f"the rate keeps falling past {level}", "fig4"))
+    else:
+        rows.append(_missing(*claims[0], "fig4", "needs two sizes past the caches: the default "
+                             "scale"))
+    big = [n for n in sizes if n >= 100_000]
+    top = {n: max(ROUND, key=lambda d: rate.get((d, n), -1)) for n in big}
+    grid_top = sum(top[n] == "grid" for n in big)
+    rows.append(Row(*claims[1], f"highest at {', '.join(f'{n:,}: {d}' for n, d in top.items())}",
+                    HOLDS if big and grid_top == len(big) else PARTLY if grid_top else FAILS,
+                    "sizes from 100k (TSC at 3 GHz, minimum of the repeats, as the paper)", "fig4"))
+    if sizes and sizes[-1] >= 100_000_000 and "cluster" in rate.index.get_level_values(0):
+        c = rate.loc["cluster"]
+        r = c.iloc[-1] / c.loc[[n for n in c.index if n >= 10_000_000][0]]
+        rows.append(Row(*claims[2], f"Cluster rate x{r:.2f} from 10M to {c.index[-1]:,}",
+                        HOLDS if r > 1.02 else FAILS,
+                        "the paper's float32 Cluster gains duplicates at huge sizes; "
+                        "our sets are float64 unless asked", "fig4"))
+    else:
+        rows.append(Row(*claims[2], "-", UNTESTABLE if sizes else MISSING,
+                        f"needs 1e8+ points (largest here {sizes[-1]:,}): the paper scale", "fig4"))
+    return rows
+
+
+def fig5_top(res):
+    claim = ("the top part takes about 10% at 32 threads", "about 10% at 32 threads (Fig. 5)")
+    df = res.frame("fig5")
+    if df is None or df.empty:
+        return [_missing(*claim, "fig5")]
+    from .fig5 import shares
+    ok = df[(df["status"] == "ok") & (df["peer"] == "lfqt-dc")]
+    t = int(ok["threads"].max())
+    sub = ok[ok["threads"] == t]
+    tops = {d: np.median([sum(v for k, v in shares(c, t).items() if "(top)" in k)
+                          for c in g["counts"]]) for d, g in sub.groupby("distribution")}
+    text = ", ".join(f"{d} {v:.1f}%" for d, v in tops.items())
+    return [Row(*claim, f"{t} threads: {text}", HOLDS if t >= 32 and max(tops.values()) <= 15
+                else UNTESTABLE if t < 32 else FAILS,
+                f"the top grows with the thread count; {t} threads here" if t < 32 else
+                "measured at 32+ threads", "fig5")]
+
+
+def fig6_scaling(res):
+    claim = ("13 to 14x on 16 cores", "13-14x on 16 cores, ~17x on 16c/32t (Fig. 6)")
+    df = res.frame("fig6")
+    if df is None or df.empty:
+        return [_missing(*claim, "fig6")]
+    from .fig6 import speedups
+    series = speedups(df)
+    physical = res.meta("fig6").get("physical_cores") or 1
+    ours = {d: dict((t, sp) for t, sp, _ in s) for (p, d, n), s in series.items()
+            if p == "lfqt-dc"}
+    at = min(16, physical)
+    text = ", ".join(f"{d} {v.get(at, float('nan')):.2f}x" for d, v in ours.items())
+    if physical >= 16:
+        worst = min(v.get(16, 0) for v in ours.values())
+        return [Row(*claim, f"16 threads: {text}", HOLDS if worst >= 13 else PARTLY if worst >= 8
+                    else FAILS, "speedup over one thread, same machine", "fig6")]
+    eff = np.median([v.get(at, np.nan) / at for v in ours.values()])
+    cg = [dict((t, sp) for t, sp, _ in s).get(at) for (p, _, _), s in series.items()
+          if p == "cgal-dt3-parallel"]
+    return [Row(*claim, f"{at} threads: {text}; median efficiency {eff:.0%} (paper 81-88% at 16)"
+                + (f"; cgal-dt3-parallel {cg[0]:.2f}x" if cg and cg[0] else ""), UNTESTABLE,
+                f"{physical} physical cores here", "fig6")]
+
+
+def table1_bounds(res):
+    claims = [("level bounds cut the undecided predicates",
+               "fqDel-level below fqDel-const on Uniform, Cluster, Circle, Spiral (Table 1)"),
+              ("about 0.5% speedup on Cluster from the level bounds", "about 0.5% (Sec. 4.1)")]
+    s = res.summary("table1", by=["peer", "distribution", "n", "dtype", "count"])
+    if s is None:
+        return [_missing(*c, "table1") for c in claims]
+    from .table1 import undecided
+    rows = []
+    parts, pairs = [], []
+    for (d, n, dtype), (const, level) in undecided(s).items():
+        if const is not None and level is not None:
+            parts.append(f"{d} {dtype} {const:,} -> {level:,}")
+            pairs.append((const, level))
+    improvable = [(c, lv) for c, lv in pairs if c > 0]
+    cut = sum(lv < c for c, lv in improvable)
+    worse = sum(lv > c for c, lv in pairs)
+    verdict = (HOLDS if improvable and 2 * cut >= len(improvable) and not worse else
+               PARTLY if cut else FAILS if pairs else MISSING)
+    rows.append(Row(*claims[0], "undecided stage-1 tests, const -> level: " + "; ".join(parts),
+                    verdict, f"lower in {cut} of the {len(improvable)} cells where the constant "
+                    f"bound leaves any undecided, higher in {worse}", "table1"))
+    n = max(k[2] for k in s.index)
+    tc = results.cell(s, "lfqt-dc-constant", "cluster", n, "float64", False)
+    tl = results.cell(s, "lfqt-dc", "cluster", n, "float64", False)
+    if tc.get("median") and tl.get("median"):
+        r = tc["median"] / tl["median"]
+        df = res.frame("table1")
+        reps = df[(df["peer"] == "lfqt-dc") & (df["distribution"] == "cluster") & ~df["count"]
+                  & (df["status"] == "ok")]["seconds"]
+        noise = (reps.max() - reps.min()) / reps.median() if len(reps) > 1 else np.nan
+        rows.append(Row(*claims[1], f"Cluster {n:,}: constant/level time {r:.3f} "
+                        f"(repeat spread {noise:.1%})",
+                        UNTESTABLE if abs(r - 1) < max(noise, 0.005) else
+                        HOLDS if 1.0 < r <= 1.03 else PARTLY if r > 1 else FAILS,
+                        "a 0.5% effect is below this shared machine's noise" if abs(r - 1) < noise
+                        else "outside the noise", "table1"))
+    else:
+        rows.append(_missing(*claims[1], "table1"))
+    return rows
+
+
+def fig7_gpu(res):
+    claims = [("more than 4x GPU-DT and 8x gDel2D", ">4x GPU-DT, >8x gDel2D on a GTX 580 (Fig. 7)"),
+              ("1M floats sorted in 0.89 ms", "0.89 ms, 32 threads (Sec. 4.2)"),
+              ("1G triangles in 8 s", "500M points, 8 s, 32 threads (Fig. 7)")]
+    s = res.summary("fig7", by=["peer", "n", "threads"])
+    if s is None:
+        return [_missing(c, p, "fig7") for c, p in claims]
+    tri = {(n, t): r["median"] for (p, n, t), r in s.iterrows() if p == "lfqt-dc" and r["median"]}
+    sort = {t: r["median"] for (p, n, t), r in s.iterrows() if p == "lfqt-radix" and r["median"]}
+    rows = []
+    ten = [(t, v) for (n, t), v in tri.items() if n == 10_000_000]
+    rows.append(Row(*claims[0], f"lfqt 10M uniform: {ten[0][1]:.2f} s on {ten[0][0]} threads"
+                    if ten else "-", UNTESTABLE, "no GPU here, and the paper prints no GPU values "
+                    "(results/published notes why none are transcribed)", "fig7"))
+    if sort:
+        t = max(sort)
+        ms = 1e3 * sort[t]
+        rows.append(Row(*claims[1], f"{ms:.2f} ms on {t} threads ({ms * t:.1f} thread-ms; the "
+                        f"paper {0.89 * 32:.1f} thread-ms)", UNTESTABLE if t < 32 else
+                        HOLDS if ms <= 0.89 * 1.1 else FAILS,
+                        f"{t} threads against 32; per thread-ms ours is "
+                        f"{'faster' if ms * t < 0.89 * 32 else 'slower'}", "fig7"))
+    else:
+        rows.append(_missing(*claims[1], "fig7"))
+    if tri:
+        n, t = max(tri)
+        per_g = tri[(n, t)] / (2 * n) * 1e9
+        rows.append(Row(*claims[2], f"{n:,} points in {tri[(n, t)]:.1f} s on {t} threads: "
+                        f"{per_g:.0f} s per 1G triangles at that rate ({per_g * t:.0f} "
+                        f"thread-s; the paper {8 * 32} thread-s)",
+                        UNTESTABLE if n < 500_000_000 else HOLDS if per_g <= 8.8 else FAILS,
+                        f"500M points need about {500e6 * 300 / 2**30:.0f} GiB; the largest that "
+                        f"fits here is {n:,}", "fig7"))
+    else:
+        rows.append(_missing(*claims[2], "fig7"))
+    return rows
+
+
+PAPER1 = [fig3_ratios, fig4_rates, fig5_top, fig6_scaling, table1_bounds, fig7_gpu]
+SECTIONS = [("Paper 1: Fuetterling, Lojewski and Pfreundt 2014 (fqDel)", PAPER1)]
+
+
+def _machine(res):
+    for name in ("fig3", "fig4", "fig5", "fig6", "fig7", "table1"):
+        m = res.meta(name)
+        if m:
+            return (f"{m.get('cpu', '?')}, {m.get('physical_cores', m.get('cores', '?'))} cores "
+                    f"({m.get('logical_cpus', m.get('cores', '?'))} logical), "
+                    f"{(m.get('memory_bytes') or 0) / 2**30:.0f} GiB; commit "
+                    f"{str(m.get('commit', '?'))[:10]}; measured {m.get('date', '?')}")
+    return "no stored results"
+
+
+def render(root, scale):
+    res = Results(root)
+    lines = ["# lfqt: the papers' claims on this machine", "",
+             f"Generated by `python -m experiments.report --scale {scale}` on "
+             f"{time.strftime('%Y-%m-%d %H:%M')} from the stored results in `{root}` only.", "",
+             f"**Machine:** {_machine(res)}.  **Scale:** {scale}.", "",
+             "Verdicts: *holds*, *partly*, *does not hold*, *not testable on this machine* (needs "
+             "hardware or sizes this machine lacks), *not measured yet* (the row names the "
+             "command).  Ratios are peer time over lfqt's, against the peer's fastest variant.",
+             ""]
+    for title, claims in SECTIONS:
+        lines += [f"## {title}", "", "| # | claim | published | ours | verdict | why | from |",
+                  "|---|---|---|---|---|---|---|"]
+        k = 0
+        for fn in claims:
+            for row in fn(res):
+                k += 1
+                lines.append(f"| {k} | {row.claim} | {row.published} | {row.ours} | "
+                             f"**{row.verdict}** | {row.why} | {row.source} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m experiments.report", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scale", choices=SCALES, default="default")
+    ap.add_argument("--out", default="results")
+    args = ap.parse_args(argv)
+    root = results_root(args.out, args.scale)
+    root.mkdir(parents=True, exist_ok=True)
+    text = render(root, args.scale)
+    results.atomic_write(root / "REPORT.md", text + "\n")
+    print(text)
+    print(root / "REPORT.md")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

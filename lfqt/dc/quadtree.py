@@ -1,0 +1,136 @@
+"""The linear floating-point quad-tree of a point set as a table, for
+inspection and drawing (paper 1, Fig. 1): the same keys, sort and
+subdivision as ``lfqt.triangulate`` uses, decoded into one row per split.
+
+A node whose keys agree above bit ``b`` and differ at ``b`` splits at ``b``
+(its *level* in the paper is ``b + 1``; the root of 64-bit keys is level 64).
+x owns the odd key bits, y the even ones, so with ``j = b // 2``:
+
+    odd b  (x split at x bit j):   free bits below the prefix  x: 0..j    y: 0..j
+    even b (y split at y bit j):                               x: 0..j-1  y: 0..j
+
+The node's cell is every coordinate with its prefix (free bits all 0 up to
+all 1); the cut is the prefix with bit j set, the smallest value of the
+upper child.  Bit j of a coordinate is its sign, an exponent bit or a
+mantissa bit: exponent splits halve the distance to the axis, mantissa
+splits form the regular grids of Fig. 1c.
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from .._input import FORMATS, as_exact_float, index_dtype
+from ..workers import Workers
+from . import _sorted_points, subdivide
+
+Quadtree = namedtuple("Quadtree", "order nodes")
+Quadtree.__doc__ = """``order``: the input indices in Morton order.  ``nodes``: dict of
+equal-length arrays, one entry per split, children before parents:
+``level``, ``bit``, ``axis`` (0: x, 1: y), ``field`` ("sign", "exponent" or
+"mantissa"), ``cut``, the cell ``x0, x1, y0, y1`` (±inf where the cell is
+unbounded), ``depth`` (root 0), ``parent`` (-1 at the root), and ``lo``,
+``split``, ``hi``: the node's sorted positions [lo, hi), cut at ``split``."""
+
+
+@njit(cache=True)
+def _decode(ops, nops, n):
+    """(lo, split, hi, bit, parent) of each merge op of a post-order op list
+    (lfqt.dc.subdivide) over n sorted positions, in op order.  A node ends
+    where the next vertex pushed after it starts (runs of equal keys are one
+    vertex), or at n."""
+    m = 0
+    for k in range(nops):
+        m += ops[k] >= 0
+    lo = np.empty(m, np.int64)
+    split = np.empty(m, np.int64)
+    hi = np.empty(m, np.int64)
+    bit = np.empty(m, np.int64)
+    parent = np.full(m, -1, np.int64)
+    s_lo = np.empty(nops + 1, np.int64)
+    s_node = np.empty(nops + 1, np.int64)
+    top = -1
+    node = 0
+    open_from = 0  # nodes [open_from, node) end where the next vertex starts
+    for k in range(nops):
+        op = ops[k]
+        top += 1
+        if op < 0:
+            s_lo[top] = -(op + 1)
+            s_node[top] = -1
+            hi[open_from:node] = -(op + 1)
+            open_from = node
+            continue
+        top -= 2  # the two children, left at top, right at top + 1
+        lo[node] = s_lo[top]
+        split[node] = op >> 8
+        bit[node] = op & 255
+        for c in (top, top + 1):
+            if s_node[c] >= 0:
+                parent[s_node[c]] = node
+        s_node[top] = node
+        node += 1
+    hi[open_from:] = n
+    return lo, split, hi, bit, parent
+
+
+def _ordered(values, width):
+    """Order-preserving unsigned images of floats (lfqt.morton)."""
+    u = np.dtype(f"uint{width}")
+    b = np.ascontiguousarray(values).view(u).copy()
+    sign = u.type(1 << (width - 1))
+    b[b == sign] = 0  # -0.0 as +0.0
+    return np.where(b & sign, ~b, b | sign)
+
+
+def _floats(ordered, width, fill):
+    """Inverse of _ordered; bit patterns that are NaN become ``fill``."""
+    u = np.dtype(f"uint{width}")
+    sign = u.type(1 << (width - 1))
+    f = np.where(ordered & sign, ordered ^ sign, ~ordered).astype(u).view(f"float{width}")
+    return np.where(np.isnan(f), fill, f).astype(np.float64)
+
+
+def _low_mask(count, width):
+    """uint of ``count`` low one bits, element-wise (count in 0..width)."""
+    u = np.dtype(f"uint{width}")
+    ones = u.type(~u.type(0))
+    shift = np.clip(width - count, 0, width - 1).astype(u)
+    return np.where(count > 0, ones >> shift, u.type(0)).astype(u)
+
+
+def quadtree(points):
+    """The LFQT of 2D points (float32 or float64 bits, never rounded), as
+    lfqt's divide and conquer subdivides it; see ``Quadtree``."""
+    arr = as_exact_float(points, (2,))
+    if not np.isfinite(arr).all():
+        raise ValueError("points contain NaN or inf")
+    x, y = arr[:, 0], arr[:, 1]
+    n = x.shape[0]
+    workers = Workers(1)
+    khi, klo, perm, _ = _sorted_points(x, y, 0, workers, index_dtype(n))
+    ops = np.empty(max(2 * n, 1), dtype=np.int64)
+    rep = np.empty(n, dtype=perm.dtype)
+    nops = subdivide.subdivide_lfqt(khi, klo, x.dtype == np.float64, 0, n, ops, 0, rep)
+    lo, split, hi, bit, parent = _decode(ops, nops, n)
+    width, exp_bits, mant_bits, _ = FORMATS[x.dtype]
+    u = np.dtype(f"uint{width}")
+    first = perm[lo]  # any point of a node carries its prefix
+    ox, oy = _ordered(x[first], width), _ordered(y[first], width)
+    j = bit // 2
+    is_x = bit % 2 == 1
+    free_x = np.where(is_x, j + 1, j)
+    mx, my = _low_mask(free_x, width), _low_mask(j + 1, width)
+    cut_bits = np.where(is_x, (ox & ~_low_mask(j + 1, width)) | (u.type(1) << j.astype(u)),
+                        (oy & ~my) | (u.type(1) << j.astype(u)))
+    depth = np.zeros(len(bit), np.int64)
+    for k in range(len(bit) - 1, -1, -1):  # parents follow their children
+        if parent[k] >= 0:
+            depth[k] = depth[parent[k]] + 1
+    field = np.where(j == width - 1, "sign", np.where(j >= mant_bits, "exponent", "mantissa"))
+    nodes = dict(level=bit + 1, bit=bit, axis=np.where(is_x, 0, 1), field=field,
+                 cut=_floats(cut_bits.astype(u), width, np.inf),
+                 x0=_floats(ox & ~mx, width, -np.inf), x1=_floats(ox | mx, width, np.inf),
+                 y0=_floats(oy & ~my, width, -np.inf), y1=_floats(oy | my, width, np.inf),
+                 depth=depth, parent=parent, lo=lo, split=split, hi=hi)
+    return Quadtree(perm.astype(np.int64), nodes)

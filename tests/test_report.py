@@ -1,0 +1,72 @@
+"""experiments.report: the verdicts on stored results written for the test,
+so that each rule is seen to pass, fall short and go missing."""
+import pytest
+
+from experiments import report, results
+from experiments.runner import Cell
+
+DISTS = ("uniform", "grid", "cluster", "circle", "spiral")
+
+
+def _store(root, experiment, times):
+    """Write results for {(peer, distribution, n): seconds} as the runner would."""
+    rows = []
+    for (peer, dist, n), sec in times.items():
+        outcome = {"status": "ok", "seconds": [sec] * 3, "cycles": [sec * 3e9] * 3,
+                   "peak_bytes": 0, "version": "", "counts": {}}
+        rows += results.rows_for(Cell(peer, dist, n), experiment, outcome)
+    (root / experiment).mkdir(parents=True, exist_ok=True)
+    results.write(root / experiment, rows)
+
+
+def _fig3(lfqt=1.0, cgal=3.0, triangle=3.5, triangle_growth=1.4):
+    times = {}
+    for d in DISTS:
+        for n, f in ((100_000, 1), (1_000_000, 10)):
+            times[("lfqt-dc", d, n)] = lfqt * f
+            times[("cgal-dt2", d, n)] = cgal * f * 1.05
+            times[("cgal-dt2-indexed", d, n)] = cgal * f
+            times[("triangle-native", d, n)] = triangle * f * (triangle_growth if f > 1 else 1)
+    return times
+
+
+def _rows(root):
+    return {r.claim: r for r in report.fig3_ratios(report.Results(root))}
+
+
+def test_fig3_claims_hold_fall_short_and_name_the_fastest_variant(tmp_path):
+    _store(tmp_path, "fig3", _fig3())
+    rows = list(_rows(tmp_path).values())
+    assert [r.verdict for r in rows] == [report.HOLDS] * 3
+    assert "cgal-dt2-indexed" in rows[0].ours and "3.00x" in rows[0].ours
+    _store(tmp_path, "fig3", _fig3(cgal=1.5, triangle_growth=1.0))
+    rows = list(_rows(tmp_path).values())
+    assert rows[0].verdict == report.PARTLY and "short of the stated ratio" in rows[0].why
+    assert rows[2].verdict == report.FAILS  # Triangle's time per point no longer grows
+    _store(tmp_path, "fig3", _fig3(cgal=0.5))
+    assert list(_rows(tmp_path).values())[0].verdict == report.FAILS
+
+
+def test_missing_results_name_the_command(tmp_path):
+    for fn in report.PAPER1:
+        for row in fn(report.Results(tmp_path)):
+            assert row.verdict == report.MISSING
+            assert row.why.startswith("run `python -m experiments.")
+
+
+def test_the_report_has_every_paper1_claim_and_a_verdict_each(tmp_path):
+    _store(tmp_path, "fig3", _fig3())
+    text = report.render(tmp_path, "default")
+    table = [line for line in text.splitlines() if line.startswith("| ") and
+             line[2].isdigit()]
+    assert len(table) == 13
+    verdicts = {report.HOLDS, report.PARTLY, report.FAILS, report.UNTESTABLE, report.MISSING}
+    assert all(any(f"**{v}**" in line for v in verdicts) for line in table)
+
+
+@pytest.mark.parametrize("ratio,verdict", [(1.004, report.UNTESTABLE), (0.9, report.FAILS)])
+def test_level_bound_speedup_below_the_noise_is_not_testable(tmp_path, ratio, verdict):
+    times = {("lfqt-dc", "cluster", 1000): 1.0, ("lfqt-dc-constant", "cluster", 1000): ratio}
+    _store(tmp_path, "table1", times)
+    rows = report.table1_bounds(report.Results(tmp_path))
+    assert rows[1].verdict == verdict
