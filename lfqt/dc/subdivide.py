@@ -172,19 +172,39 @@ def subdivide_top(khi, klo, wide, n, bin_size):
     return nodes[:count].copy()
 
 
+@njit(cache=True, inline="always")
+def _mix(x):
+    """splitmix64's finaliser: a well-spread 64-bit hash of x."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
 @njit(cache=True)
 def _select(ids, lo, hi, k, P, axis):
-    """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element)."""
+    """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element).
+
+    The pivot is the median of the first, middle and last elements, which
+    suits points in Morton order, unless the last round kept more than 3/4
+    of the range: then it is a pseudo-random element (Triangle's
+    vertexmedian always picks one at random).  Without that guard the
+    alternating subdivision of 1M Circle points, which defeats the median
+    of three, took 2.1 s against 0.012 s at 100k."""
+    state = np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(lo * 1000003 + hi)
+    unbalanced = False
     while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        # median of three as pivot
-        a, b, c = ids[lo], ids[mid], ids[hi - 1]
-        if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
-            a, b = b, a
-        if less(P[c, 0], P[c, 1], P[b, 0], P[b, 1], axis):
-            b, c = c, b
+        if unbalanced:
+            state = _mix(state)
+            b = ids[lo + np.int64(state % np.uint64(hi - lo))]
+        else:
+            mid = (lo + hi) >> 1
+            a, b, c = ids[lo], ids[mid], ids[hi - 1]
             if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
                 a, b = b, a
+            if less(P[c, 0], P[c, 1], P[b, 0], P[b, 1], axis):
+                b, c = c, b
+                if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
+                    a, b = b, a
         px = P[b, 0]
         py = P[b, 1]
         i = lo
@@ -200,12 +220,14 @@ def _select(ids, lo, hi, k, P, axis):
                 ids[j] = t
                 i += 1
                 j -= 1
+        span = hi - lo
         if k <= j:
             hi = j + 1
         elif k >= i:
             lo = i
         else:
             return
+        unbalanced = 4 * (hi - lo) > 3 * span
 
 
 @njit(cache=True)
