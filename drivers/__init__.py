@@ -34,7 +34,9 @@ def make(name, **options):
 
 
 def names(dim=None):
-    return [k for k in REGISTRY if dim is None or dim in make(k).dims]
+    """The triangulators (of dimension ``dim``); a peer that times one phase
+    alone is in REGISTRY but not here."""
+    return [k for k in REGISTRY if make(k).triangulates and (dim is None or dim in make(k).dims)]
 
 
 def available(name):

@@ -38,6 +38,7 @@ class Peer:
     family = ""  # the module of drivers/ that defines it
     options = ()  # options set() takes besides their defaults, e.g. ("threads",)
     bytes_per_point = 300  # a generous peak-memory estimate, to skip what cannot fit
+    triangulates = True  # False for a peer that times one phase alone (lfqt-radix)
     install = ""  # what to do when check() fails
 
     @property

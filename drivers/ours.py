@@ -101,6 +101,7 @@ class LfqtRadixSort(Peer):
     family = "ours"
     options = ("threads",)
     bytes_per_point = 64
+    triangulates = False
 
     def __init__(self):
         self.name = "lfqt-radix"
@@ -137,8 +138,43 @@ class LfqtRadixSort(Peer):
         return Result(None, {"sorted": int(ok), "values": len(self.keys)})
 
 
+class LfqtOrder(Peer):
+    """Building one insertion order of lfqt.orders alone (paper 2, Table 15:
+    sequence building time)."""
+    family = "ours"
+    dims = (2, 3)
+    bytes_per_point = 200
+    triangulates = False
+
+    def __init__(self, order):
+        self.order = order
+        self.name = f"lfqt-order-{order}"
+        self.dim = 3
+
+    def version(self):
+        return lfqt.__version__
+
+    def build_info(self):
+        return _build_info()
+
+    def prepare(self, points, order=None, count=False):
+        from lfqt import orders
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.build = orders.order
+        self.build(self.points[:64], self.order)  # JIT warm-up
+
+    def run(self):
+        self.perm = None
+        self.perm, _ = self.build(self.points, self.order)
+
+    def result(self):
+        ok = np.array_equal(np.sort(self.perm), np.arange(len(self.points)))
+        return Result(None, {"permutation": int(ok)})
+
+
 PEERS = {"lfqt-dc": lambda: LfqtDC("lfqt"),
          "lfqt-dc-constant": lambda: LfqtDC("lfqt", "constant"),
          "lfqt-dc-alternating": lambda: LfqtDC("alternating")}
 PEERS["lfqt-radix"] = LfqtRadixSort
+PEERS.update({f"lfqt-order-{o}": (lambda o: lambda: LfqtOrder(o))(o) for o in ORDERS})
 PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})

@@ -122,4 +122,6 @@ def figure_paths(fig, out, name):
     paths = [d / f"{name}.png", d / f"{name}.svg"]
     for p in paths:
         fig.savefig(p, dpi=120, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+    plt.close(fig)
     return paths

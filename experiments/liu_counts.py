@@ -3,31 +3,28 @@ cells, per point, for the Kd-tree, BRIO and Hilbert orders on all seven 3D
 models; through CGAL with counting traits and find_conflicts/insert_in_hole
 (the paper's method) and through lfqt.insert.  CGAL's Hilbert is counted with
 our Hilbert order, since CGAL's range insertion calls its conflict search
-internally.  The paper's sizes differ per model; ours are one grid for all,
-and the figure draws the published values at their own sizes."""
+internally.  Sizes per model as experiments.liu.sizes (the paper's six at
+the paper scale).  The flat-count check prints each count's spread across
+the sizes, ours and the paper's (Kd's counts are flat in the paper, BRIO's
+and Hilbert's grow); flagged published rows are drawn apart."""
 import sys
 
 import numpy as np
 
-from . import results
+from . import liu, results
 from .experiment import Experiment, figure_paths
 from .runner import Cell
 
-SIZES = {"smoke": [5_000], "default": [100_000], "paper": [100_000, 1_000_000]}
-# (label, ours, CGAL); CGAL's Hilbert here is our Hilbert order through
-# find_conflicts (see above)
-ORDERS = [("kdtree", "lfqt-insert-kdtree", "cgal-dt3-kdtree"),
-          ("brio", "lfqt-insert-brio", "cgal-dt3-brio"),
-          ("hilbert", "lfqt-insert-hilbert", "cgal-dt3-hilbert")]
-TABLES = {"cube": "Table 8", "plane": "Table 9", "paraboloid": "Table 10",
-          "spiral3d": "Table 11", "disc": "Table 12", "cylinder": "Table 13", "axes": "Table 14"}
+# CGAL's Hilbert here is our Hilbert order through find_conflicts (see above)
+ORDERS = liu.ORDERS
+TABLES = {m: f"Table {t}" for m, (_, t) in liu.MODELS.items()}
 METRICS = ("orientation_per_point", "conflicts_per_point")
-COLORS = {"kdtree": "#1b6ca8", "brio": "#d1495b", "hilbert": "#66a182"}
+COLORS = liu.COLORS
 
 
 def grid(scale, threads):
     return [Cell(peer, model, n, threads=threads, count=True)
-            for model in TABLES for n in SIZES[scale]
+            for model in TABLES for n in liu.sizes(model, scale)
             for _, ours, cgal in ORDERS for peer in (ours, cgal)]
 
 
@@ -39,18 +36,51 @@ def per_point(counts, n):
 
 
 def published_counts():
-    """{(model, order, n, metric): value} of Tables 8 to 14."""
-    tables = {t: m for m, t in TABLES.items()}
-    return {(tables[r["table"]], r["order"], int(r["n"]), r["metric"]): float(r["value"])
-            for r in results.published("liu2013").to_dict("records")
-            if r["table"] in tables and r["value"]}
+    """{(model, order, n, metric): (value, flag)} of Tables 8 to 14, at the
+    sizes the rows line up with."""
+    out = {}
+    for model, (_, table) in liu.MODELS.items():
+        for metric in METRICS:
+            for (m, order, n), (v, _, flag) in liu.values(table, metric).items():
+                if v is not None:
+                    out[(m, order, n, metric)] = (v, flag)
+    return out
+
+
+def spread(values):
+    """(max - min) / mean of a metric across sizes: the flat-count check."""
+    v = np.array([x for x in values if x == x])
+    return float((v.max() - v.min()) / v.mean()) if len(v) > 1 else float("nan")
+
+
+def flat_counts(df):
+    """{(system, model, order, metric): spread across the measured sizes}
+    for system "lfqt" and "CGAL", and "paper" across its six sizes."""
+    s = results.summarize(df)
+    pub = published_counts()
+    out = {}
+    for model in TABLES:
+        ns = sorted(df.loc[df["distribution"] == model, "n"].unique())
+        for label, ours, cgal in ORDERS:
+            for k, metric in enumerate(METRICS):
+                for system, peer in (("lfqt", ours), ("CGAL", cgal)):
+                    vals = [per_point(results.cell(s, peer, model, n, True).get("counts", {}),
+                                      n)[k] for n in ns]
+                    out[(system, model, label, metric)] = spread(vals)
+                out[("paper", model, label, metric)] = spread(
+                    [v for (m, o, n, me), (v, flag) in pub.items()
+                     if (m, o, me) == (model, label, metric) and not flag])
+    return out
+
+
+def _pct(x):
+    return "-" if x != x else f"{x:.1%}"
 
 
 def plot(df, out):
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import FuncFormatter
-    plain = FuncFormatter(lambda v, _: f"{v:g}")
-    sparse = FuncFormatter(lambda v, _: f"{v:g}" if f"{v:g}"[0] in "125" else "")
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import FuncFormatter, MaxNLocator
     s = results.summarize(df)
     pub = published_counts()
     models = [m for m in TABLES if m in set(df["distribution"])]
@@ -65,32 +95,54 @@ def plot(df, out):
             pub_n = sorted({n for (m, o, n, _) in pub if m == model and o == label})
             for k, metric in enumerate(METRICS):
                 ax = axes[k, col]
-                ax.plot(ns, [p[k] for p in po], "-o", color=COLORS[label], label=f"{label}: lfqt")
-                ax.plot(ns, [p[k] for p in pc], "--s", color=COLORS[label], label=f"{label}: CGAL")
-                ax.plot(pub_n, [pub[(model, label, n, metric)] for n in pub_n], ":^",
-                        color=COLORS[label], alpha=0.6, label=f"{label}: paper (CGAL 4.0)")
+                ax.plot(ns, [p[k] for p in po], "-o", color=COLORS[label])
+                ax.plot(ns, [p[k] for p in pc], "--s", color=COLORS[label])
+                pts = [(n, *pub[(model, label, n, metric)]) for n in pub_n
+                       if (model, label, n, metric) in pub]
+                ax.plot([n for n, _, f in pts if not f], [v for _, v, f in pts if not f], ":^",
+                        color=COLORS[label], alpha=0.6)
+                flagged = [(n, v) for n, v, f in pts if f]
+                if flagged:
+                    ax.scatter(*zip(*flagged), marker="x", s=40, color="black", zorder=4)
             for n, a, b in zip(ns, po, pc):
                 near = min(pub_n, key=lambda m: abs(m - n)) if pub_n else None
-                po_pub = pub.get((model, label, near, METRICS[0]), np.nan)
-                pc_pub = pub.get((model, label, near, METRICS[1]), np.nan)
-                print(f"{model:10} {n:>9,} {label:8} {a[0]:15.2f} {b[0]:7.2f} {po_pub:7.2f}   "
-                      f"{a[1]:18.2f} {b[1]:7.2f} {pc_pub:7.2f}")
-        axes[0, col].set_title(f"{model} ({TABLES[model]})")
+                po_pub, fo = pub.get((model, label, near, METRICS[0]), (np.nan, ""))
+                pc_pub, fc = pub.get((model, label, near, METRICS[1]), (np.nan, ""))
+                print(f"{model:10} {n:>9,} {label:8} {a[0]:15.2f} {b[0]:7.2f} {po_pub:7.2f}"
+                      f"{'*' if fo else ' '}  {a[1]:18.2f} {b[1]:7.2f} {pc_pub:7.2f}"
+                      f"{'*' if fc else ''}")
+        axes[0, col].set_title(f"{model} ({TABLES[model]})", fontsize=9)
         for k, ylabel in enumerate(("orientation tests / point", "conflicting cells / point")):
             ax = axes[k, col]
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.yaxis.set_major_formatter(plain)
-            ax.yaxis.set_minor_formatter(sparse)
-            ax.grid(alpha=0.3, which="both")
+            ax.set_ylim(bottom=0)
+            ax.xaxis.set_major_locator(MaxNLocator(3))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 1e6:g}M" if v >= 1e6
+                                                       else f"{v / 1e3:g}k"))
+            ax.grid(alpha=0.3)
             if col == 0:
                 ax.set_ylabel(ylabel)
             if k == 1:
                 ax.set_xlabel("points")
-    axes[1, -1].legend(fontsize=6, ncol=1, loc="best")
-    fig.suptitle("Paper 2, Tables 8-14: per-point counts by insertion order (solid: lfqt, "
-                 "dashed: CGAL 5.5, dotted: paper)")
-    fig.tight_layout()
+    handles = [Line2D([], [], color=COLORS[o], lw=2, label=o) for o, _, _ in ORDERS]
+    handles += [Line2D([], [], color="black", ls=ls, marker=m, label=lab) for ls, m, lab in
+                (("-", "o", "lfqt"), ("--", "s", "CGAL 5.5 (this machine)"),
+                 (":", "^", "paper (CGAL 4.0)"))]
+    handles.append(Line2D([], [], color="black", marker="x", ls="", label="paper, flagged "
+                          "(results/published)"))
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8,
+               frameon=False)
+    fig.suptitle("Paper 2, Tables 8-14: orientation tests and conflicting cells per point, by "
+                 "insertion order")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    flat = flat_counts(df)
+    print("\nflat-count check: (max - min) / mean of each count across the sizes "
+          "(lfqt / CGAL / paper)")
+    for model in models:
+        for label, _, _ in ORDERS:
+            print(f"{model:10} {label:8} " + "   ".join(
+                f"{metric.split('_')[0]:12} " + " / ".join(
+                    _pct(flat[(sy, model, label, metric)]) for sy in ("lfqt", "CGAL", "paper"))
+                for metric in METRICS))
     return figure_paths(fig, out, "liu_counts")
 
 

@@ -319,12 +319,194 @@ def fig7_gpu(res):
     return rows
 
 
+def _liu_ratios(res):
+    """{(system, model, order, n): time / Kd time} from liu_times, or None."""
+    s = res.summary("liu_times")
+    if s is None:
+        return None
+    from . import liu
+    from .liu_times import ratios_to_kd
+    out = {}
+    for model in liu.MODELS:
+        ns = sorted({k[2] for k in s.index if k[1] == model})
+        for (system, order, n), r in ratios_to_kd(s, model, ns).items():
+            out[(system, model, order, n)] = r
+    return out
+
+
+def liu_times_claims(res):
+    claims = [("Kd is fastest on every model", "Kd below BRIO and Hilbert in Tables 1-7"),
+              ("the gain is marginal on uniform sets", "cube: 'marginal' (Table 1, Sec. 4)"),
+              ("BRIO and Hilbert degrade on non-uniform sets",
+               "up to 1.8x (BRIO) and 1.4x (Hilbert), 15x on axes (Tables 2-7)")]
+    r = _liu_ratios(res)
+    if r is None:
+        return [_missing(c, p, "liu_times") for c, p in claims]
+    largest = {}
+    for (system, model, order, n) in r:
+        largest[model] = max(largest.get(model, 0), n)
+    rows = []
+    for system in ("CGAL", "lfqt"):
+        wins = {m: all(r[(system, m, o, n)] >= 1.0 for o in ("brio", "hilbert"))
+                for m, n in largest.items()}
+        lost = [m for m, w in wins.items() if not w]
+        rows.append(Row(f"{claims[0][0]} ({system})", claims[0][1],
+                        f"Kd fastest on {sum(wins.values())} of {len(wins)} models at the "
+                        f"largest size" + (f"; not on {', '.join(lost)}" if lost else ""),
+                        HOLDS if not lost else PARTLY if len(lost) < len(wins) / 2 else FAILS,
+                        "order building included, median times" +
+                        ("; CGAL is the paper's setup" if system == "CGAL" else ""),
+                        "liu_times"))
+    if "cube" in largest:
+        n = largest["cube"]
+        cube = {(sy, o): r[(sy, "cube", o, n)] for sy in ("CGAL", "lfqt") for o in ("brio",
+                                                                                   "hilbert")}
+        worst = max(abs(v - 1) for v in cube.values())
+        rows.append(Row(*claims[1], f"cube {n:,}: " + ", ".join(
+            f"{o}/Kd {_x(v)} ({sy})" for (sy, o), v in cube.items()),
+            HOLDS if worst <= 0.15 else PARTLY if worst <= 0.3 else FAILS,
+            f"largest difference from Kd {worst:.0%} (marginal: within 15%)", "liu_times"))
+    nonuni = [m for m in largest if m != "cube"]
+    if nonuni:
+        worse = [(m, o) for m in nonuni for o in ("brio", "hilbert")
+                 if r[("CGAL", m, o, largest[m])] > 1.1]
+        grows = [(m, o) for m in nonuni for o in ("brio", "hilbert")
+                 if len({n for (sy, mm, oo, n) in r if mm == m}) > 1 and
+                 r[("CGAL", m, o, largest[m])] > r[("CGAL", m, o, min(
+                     n for (sy, mm, oo, n) in r if mm == m))]]
+        total = 2 * len(nonuni)
+        rows.append(Row(*claims[2], f"CGAL: more than 10% slower than Kd in {len(worse)} of "
+                        f"{total} (model, order) pairs; the gap grows with size in {len(grows)}; "
+                        "worst " + max((f"{m} {o} {_x(r[('CGAL', m, o, largest[m])])}"
+                                        for m, o in worse), default="-"),
+                        HOLDS if 2 * len(worse) >= total else PARTLY if worse else FAILS,
+                        "non-uniform models, largest measured size", "liu_times"))
+    return rows
+
+
+def liu_counts_flat(res):
+    claim = ("Kd's counts are flat in the size", "Kd orientation and conflicts per point nearly "
+             "constant over six sizes (Tables 8-14)")
+    df = res.frame("liu_counts")
+    if df is None or df.empty:
+        return [_missing(*claim, "liu_counts")]
+    from .liu_counts import flat_counts
+    flat = flat_counts(df)
+    kd = {k: v for k, v in flat.items() if k[2] == "kdtree" and k[0] != "paper" and v == v}
+    if not kd:
+        return [Row(*claim, "-", MISSING, "needs two sizes per model: the default scale",
+                    "liu_counts")]
+    others = [v for k, v in flat.items() if k[2] != "kdtree" and k[0] == "CGAL" and v == v]
+    worst = max(kd.values())
+    paper = [v for k, v in flat.items() if k[0] == "paper" and k[2] == "kdtree" and v == v]
+    return [Row(*claim, f"Kd's largest spread across sizes {worst:.1%} (lfqt and CGAL); BRIO and "
+                f"Hilbert up to {max(others, default=float('nan')):.0%}; the paper's Kd up to "
+                f"{max(paper, default=float('nan')):.0%}",
+                HOLDS if worst <= 0.1 else PARTLY if worst <= 0.25 else FAILS,
+                "(max - min) / mean of each count over the measured sizes", "liu_counts")]
+
+
+def liu_build_claim(res):
+    claim = ("Kd takes longer to build but wins overall",
+             "Kd's sequence 1.5-2x Hilbert's to build (Table 15), yet fastest in total")
+    s = res.summary("liu_order_time")
+    if s is None:
+        return [_missing(*claim, "liu_order_time")]
+    ratios = []
+    for (peer, model, n, count), row in s.iterrows():
+        if peer == "lfqt-order-kdtree" and row["median"]:
+            hb = results.median(s, "lfqt-order-hilbert", model, n, False)
+            if hb:
+                ratios.append((model, n, row["median"] / hb))
+    if not ratios:
+        return [_missing(*claim, "liu_order_time")]
+    slower = all(r > 1 for _, _, r in ratios)
+    wins = _liu_ratios(res)
+    overall = None if wins is None else all(v >= 1 for (sy, m, o, n), v in wins.items()
+                                            if sy == "CGAL" and o != "kdtree")
+    text = ", ".join(f"{m} {n:,}: Kd/Hilbert {_x(r)}" for m, n, r in ratios)
+    verdict = (MISSING if overall is None else HOLDS if slower and overall else
+               PARTLY if slower or overall else FAILS)
+    return [Row(*claim, text, verdict, ("building: Kd " + ("slower" if slower else "not slower")
+                                        + "; total: " + ("not measured (liu_times)" if overall is
+                                                         None else "Kd fastest everywhere" if
+                                                         overall else "Kd not always fastest")),
+                "liu_order_time")]
+
+
+def liu_practical_claims(res):
+    claims = [("random order aborts on large practical models",
+               "random > 30 min on the gear box and the constrained cube (Table 16)"),
+              ("Hilbert fails on 5.5M for memory", "Hilbert failed (memory) on the 5.5M refined "
+               "constrained cube (Table 17)")]
+    s = res.summary("liu_practical")
+    if s is None:
+        return [_missing(c, p, "liu_practical") for c, p in claims]
+    from .liu_practical import outcome
+    rows = []
+    big = ("gearbox-standin", "constrained-cube-standin")
+    parts, aborted, slow = [], 0, 0
+    for model in big:
+        ns = [k[2] for k in s.index if k[1] == model]
+        if not ns:
+            continue
+        n = max(ns)
+        t, status, _ = outcome(s, "cgal-dt3-random", model, n)
+        kd = outcome(s, "cgal-dt3-kdtree", model, n)[0]
+        aborted += status == "timeout"
+        slow += bool(t and kd and t / kd > 3)
+        parts.append(f"{model} {n:,}: CGAL random " + (f"{t:.1f} s ({_x(t / kd)} Kd)" if t and kd
+                                                        else status))
+    full = all(max(k[2] for k in s.index if k[1] == m) >= 3_000_000 for m in big
+               if any(k[1] == m for k in s.index))
+    rows.append(Row(*claims[0], "; ".join(parts) or "-",
+                    HOLDS if aborted == len(parts) and parts else
+                    (PARTLY if slow or aborted else FAILS) if full else UNTESTABLE,
+                    "an abort is a run past the scale's cell limit (30 min at the paper scale)"
+                    + ("" if full else "; a tenth of the paper's sizes here: the paper scale "
+                       "runs the full sets"), "liu_practical"))
+    model = "refined-cube-standin"
+    ns = [k[2] for k in s.index if k[1] == model]
+    if ns:
+        n = max(ns)
+        mem = {o: outcome(s, f"cgal-dt3-{o}", model, n) for o in ("kdtree", "hilbert", "brio")}
+        failed = mem["hilbert"][1] in ("memory", "crash", "error")
+        rows.append(Row(*claims[1], f"{n:,} points: " + ", ".join(
+            f"{o} {st if not t else f'{t:.1f} s'}, {bpp or float('nan'):.0f} B/pt peak"
+            for o, (t, st, bpp) in mem.items()),
+            (HOLDS if failed else FAILS) if n >= 5_000_000 else UNTESTABLE,
+            "the paper's 2 GB Windows XP PC ran out of memory; this machine has far more, and "
+            "our Hilbert order needs no more memory than the others" if not failed else
+            "failed here too", "liu_practical"))
+    else:
+        rows.append(_missing(*claims[1], "liu_practical"))
+    return rows
+
+
+def liu_hilbert_question(res):
+    claim = ("which order was the paper's Hilbert", "'Hilbert' and 'BRIO' orders in CGAL 4.0 "
+             "(Tables 8-14)")
+    df = res.frame("liu_hilbert")
+    if df is None or df.empty:
+        return [_missing(*claim, "liu_hilbert")]
+    from .liu_hilbert import CANDIDATES, best_matches
+    best = best_matches(df)
+    text = "; ".join(f"nearest to the paper's {o}: {CANDIDATES[p]} ({v:.0%} mean distance)"
+                     for o, (p, v) in best.items())
+    return [Row(*claim, text, PARTLY if best else MISSING,
+                "counts per point against the paper's rows at the nearest size; a match is a "
+                "reading, not a proof", "liu_hilbert")]
+
+
 PAPER1 = [fig3_ratios, fig4_rates, fig5_top, fig6_scaling, table1_bounds, fig7_gpu]
-SECTIONS = [("Paper 1: Fuetterling, Lojewski and Pfreundt 2014 (fqDel)", PAPER1)]
+PAPER2 = [liu_times_claims, liu_counts_flat, liu_build_claim, liu_practical_claims,
+          liu_hilbert_question]
+SECTIONS = [("Paper 1: Fuetterling, Lojewski and Pfreundt 2014 (fqDel)", PAPER1),
+            ("Paper 2: Liu, Yan and Lo 2013 (Kd-tree insertion order)", PAPER2)]
 
 
 def _machine(res):
-    for name in ("fig3", "fig4", "fig5", "fig6", "fig7", "table1"):
+    for name in ("fig3", "fig4", "fig5", "fig6", "fig7", "table1", "liu_times", "liu_counts"):
         m = res.meta(name)
         if m:
             return (f"{m.get('cpu', '?')}, {m.get('physical_cores', m.get('cores', '?'))} cores "

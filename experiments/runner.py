@@ -140,7 +140,10 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     meta = dict(experiment=experiment, command=command or " ".join(sys.argv),
                 date=time.strftime("%Y-%m-%d %H:%M:%S %z"), repeats=repeats, rounds=rounds,
                 cells=len(cells), resumed_cells=len(cells) - len(todo), **(extra_metadata or {}),
-                peers=peer_builds({c.peer for c in cells}), **machine_info())
+                peers=peer_builds({c.peer for c in cells}),
+                distributions={d: generators.definition(d)
+                               for d in sorted({c.distribution for c in cells})},
+                **machine_info())
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = _progress(experiment, len(todo)) if progress and todo else None
     with open(log, "a") as f:

@@ -129,8 +129,25 @@ def make(name, n, *, seed=0, dtype="float64", cache=None):
     use_cache = n >= CACHE_MIN_POINTS if cache is None else cache
     if not use_cache:
         return generate(name, n, seed=seed, dtype=dtype)
-    key = f"{name}-n{int(n)}-s{seed}-{dtype}-v{VERSION}"
+    key = f"{name}-n{int(n)}-s{seed}-{dtype}-{definition(name)}"
     return cached(key, lambda: generate(name, n, seed=seed, dtype=dtype))
+
+
+def definition(name):
+    """A short hash of everything that defines set ``name``: VERSION, the
+    source of its draw function's module and of the drawing and de-duplicating
+    code here.  It keys the cache, so that a changed formula never serves a
+    stale file, and results record it (experiments.runner)."""
+    import hashlib
+    import inspect
+    import sys
+    dist = get(name)
+    h = hashlib.sha256(VERSION.encode())
+    for part in (inspect.getsource(sys.modules[dist.draw.__module__]), inspect.getsource(generate),
+                 inspect.getsource(_redraw_duplicates), inspect.getsource(_duplicate_rows),
+                 repr((dist.name, dist.dim, dist.duplicates))):
+        h.update(part.encode())
+    return "d" + h.hexdigest()[:12]
 
 
 def listing():

@@ -70,7 +70,7 @@ def test_failures_are_rows_with_their_reason(tmp_path, monkeypatch):
 def test_main_job_at_smoke_scale(tmp_path, capsys):
     assert all_experiments.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet"]) == 0
     text = capsys.readouterr().out
-    for name in ("fig1", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "liu_table1",
+    for name in ("fig1", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "liu_times",
                  "liu_counts"):
         assert (tmp_path / "smoke" / "figures" / f"{name}.png").stat().st_size > 20000
         assert (tmp_path / "smoke" / "figures" / f"{name}.svg").exists()
@@ -192,3 +192,38 @@ def test_fig7_radix_peer_sorts_and_the_largest_size_fits_memory():
     peer = drivers.make("lfqt-radix", threads=2)
     m = drivers.measure(peer, generators.make("uniform", 50_000, dtype="float32"), repeats=2)
     assert m.counts == {"sorted": 1, "values": 50_000} and all(s > 0 for s in m.seconds)
+
+
+def test_liu_practical_records_every_order_and_its_memory(tmp_path, capsys):
+    from experiments import liu_practical
+    assert liu_practical.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
+                               "--dists", "statue-standin,refined-cube-standin"]) == 0
+    rows = load_rows(tmp_path / "smoke" / "liu_practical")
+    got = {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"}
+    assert got == {(tpl.format(o), m) for m in ("statue-standin", "refined-cube-standin")
+                   for o in liu_practical.ORDERS for _, tpl in liu_practical.SYSTEMS}
+    assert all(r["peak_bytes"] > 0 for r in rows)
+    text = capsys.readouterr().out
+    assert "Hilbert order failed (memory)" in text and "abort" not in text.split("paper:")[0]
+
+
+def test_liu_hilbert_compares_cgal_sorts_with_the_papers_rows(tmp_path, capsys):
+    from experiments import liu_hilbert
+    assert liu_hilbert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
+                             "--dists", "cube,cylinder"]) == 0
+    df = results.load(tmp_path / "smoke" / "liu_hilbert")
+    assert set(df["peer"]) == set(liu_hilbert.CANDIDATES) and (df["status"] == "ok").all()
+    counts = {p: c for p, c in zip(df["peer"], df["counts"])}
+    assert counts["cgal-dt3-hilbert-sort"]["conflicts"] > 0
+    # the table 13 row that repeats another is left out of the distances
+    assert set(liu_hilbert.best_matches(df)) == {"hilbert", "brio"}
+    assert "nearest to the paper's hilbert" in capsys.readouterr().out
+
+
+def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
+    import pytest
+    from experiments import liu_times
+    with pytest.raises(SystemExit, match="not in this experiment"):
+        liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--dists", "uniform"])
+    with pytest.raises(SystemExit, match="not in this experiment"):
+        liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--sizes", "123"])

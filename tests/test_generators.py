@@ -121,3 +121,21 @@ def test_gallery_draws_every_set(tmp_path):
     from generators.gallery import draw
     paths = draw(tmp_path, n=300)
     assert all(p.exists() and p.stat().st_size > 10000 for p in paths)
+
+
+def test_the_cache_is_keyed_by_the_definition(tmp_path, monkeypatch):
+    """A changed formula never serves a stale file: the key holds a hash of
+    the set's definition, and another definition builds another file."""
+    monkeypatch.setenv("LFQT_CACHE_DIR", str(tmp_path))
+    a = generators.make("uniform", 1000, cache=True)
+    files = list(tmp_path.glob("*.npy"))
+    assert len(files) == 1 and generators.definition("uniform") in files[0].name
+    monkeypatch.setattr(generators, "definition", lambda name: "dchanged")
+    b = generators.make("uniform", 1000, cache=True)
+    assert len(list(tmp_path.glob("*.npy"))) == 2 and np.array_equal(a, b)
+
+
+def test_definitions_differ_between_sets_and_are_stable():
+    assert generators.definition("uniform") != generators.definition("cube")
+    assert generators.definition("uniform") == generators.definition("uniform")
+    assert generators.definition("uniform") != generators.definition("grid")  # same module

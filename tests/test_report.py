@@ -57,9 +57,11 @@ def test_missing_results_name_the_command(tmp_path):
 def test_the_report_has_every_paper1_claim_and_a_verdict_each(tmp_path):
     _store(tmp_path, "fig3", _fig3())
     text = report.render(tmp_path, "default")
+    paper1, paper2 = text.split("## Paper 2")
     table = [line for line in text.splitlines() if line.startswith("| ") and
              line[2].isdigit()]
-    assert len(table) == 13
+    assert sum(line in paper1 for line in table) == 13
+    assert sum(line in paper2 for line in table) >= 7
     verdicts = {report.HOLDS, report.PARTLY, report.FAILS, report.UNTESTABLE, report.MISSING}
     assert all(any(f"**{v}**" in line for v in verdicts) for line in table)
 

@@ -60,7 +60,9 @@ class CgalPeer(CompiledPeer):
     dt3-indexed), parallel 3D range insertion (dt3-parallel, TBB), or
     insertion one point at a time in an order with hints (dt2-order,
     dt3-order: the caller's order, or ``order_name`` built inside the timed
-    run, as paper 2 includes it)."""
+    run, as paper 2 includes it), or in the order of CGAL's own hilbert_sort
+    or spatial_sort with the previous vertex as hint (dt3-hilbert-sort,
+    dt3-spatial-sort: what paper 2's "Hilbert" and "BRIO" may have been)."""
     family = "cgal"
     install = INSTALL
 
@@ -112,6 +114,6 @@ class CgalPeer(CompiledPeer):
 
 PEERS = {f"cgal-{op}": (lambda op: lambda: CgalPeer(op))(op)
          for op in ("dt2", "dt3", "dt2-indexed", "dt3-indexed", "dt3-parallel", "dt2-order",
-                    "dt3-order")}
+                    "dt3-order", "dt3-hilbert-sort", "dt3-spatial-sort")}
 PEERS.update({f"cgal-{op[:3]}-{o}": (lambda op, o: lambda: CgalPeer(op, o))(op, o)
               for o in ORDERS for op in ("dt2-order", "dt3-order")})

@@ -13,6 +13,11 @@
 //     dt2-order | dt3-order  one point at a time in ORDER's permutation, each
 //                         with its hint (paper 2, section 3.1); ORDER.npy is an
 //                         int64 (n, 2) array of (input index, hint index or -1).
+//     dt3-hilbert-sort | dt3-spatial-sort  one point at a time in the order of
+//                         CGAL's own hilbert_sort (median policy) or
+//                         spatial_sort (BRIO rounds of hilbert_sort), each with
+//                         the previous vertex as hint; the sort is timed, as
+//                         paper 2 includes order building.
 // --count  wraps the orientation and in-circle/in-sphere functors with counters
 //          and, for *-order, inserts through find_conflicts + insert_in_hole to
 //          count conflicting cells.  Without it the plain kernel runs: timed
@@ -23,6 +28,10 @@
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
 #include <CGAL/version.h>
 #include <sys/resource.h>
 #include <x86intrin.h>
@@ -342,7 +351,8 @@ Result run2(const double* xy, long n, const std::int64_t* order, bool conflicts_
 
 // ---------------------------------------------------------------- 3D
 template <class K>
-Result run3(const double* xyz, long n, const std::int64_t* order, bool conflicts_mode) {
+Result run3(const double* xyz, long n, const std::int64_t* order, bool conflicts_mode,
+            int cgal_sort = 0) {
   typedef CGAL::Triangulation_vertex_base_with_info_3<long, K> Vb;
   typedef CGAL::Delaunay_triangulation_cell_base_3<K> Cb;
   typedef CGAL::Triangulation_data_structure_3<Vb, Cb> Tds;
@@ -356,6 +366,19 @@ Result run3(const double* xyz, long n, const std::int64_t* order, bool conflicts
   Clock clk;
   g_orient = g_incircle = 0;
   clk.start();
+  std::vector<std::int64_t> sorted_order;
+  if (cgal_sort) {  // CGAL's own order (1: hilbert_sort, 2: spatial_sort), previous vertex as hint
+    typedef CGAL::Spatial_sort_traits_adapter_3<K, CGAL::First_of_pair_property_map<std::pair<P, long>>> Traits;
+    std::vector<std::pair<P, long>> sorted(pts);
+    if (cgal_sort == 1) CGAL::hilbert_sort(sorted.begin(), sorted.end(), Traits());
+    else CGAL::spatial_sort(sorted.begin(), sorted.end(), Traits());
+    sorted_order.resize(2 * n);
+    for (long k = 0; k < n; ++k) {
+      sorted_order[2 * k] = sorted[k].second;
+      sorted_order[2 * k + 1] = -1;
+    }
+    order = sorted_order.data();
+  }
   if (!order) {
     dt.insert(pts.begin(), pts.end());
   } else {
@@ -403,7 +426,8 @@ int main(int argc, char** argv) {
   try {
     if (argc < 3) {
       std::fprintf(stderr, "usage: cgal_driver dt2|dt3|dt2-indexed|dt3-indexed|dt3-parallel|"
-                           "dt2-order|dt3-order POINTS.npy [--order ORDER.npy] [--count] "
+                           "dt2-order|dt3-order|dt3-hilbert-sort|dt3-spatial-sort POINTS.npy "
+                           "[--order ORDER.npy] [--count] "
                            "[--threads T] [--out SIMPLICES.npy]\n");
       return 2;
     }
@@ -420,7 +444,7 @@ int main(int argc, char** argv) {
     }
     int dim = op.rfind("dt2", 0) == 0 ? 2 : op.rfind("dt3", 0) == 0 ? 3 : 0;
     static const char* ops[] = {"dt2", "dt3", "dt2-indexed", "dt3-indexed", "dt3-parallel",
-                                "dt2-order", "dt3-order"};
+                                "dt2-order", "dt3-order", "dt3-hilbert-sort", "dt3-spatial-sort"};
     bool known = false;
     for (const char* o : ops) known = known || op == o;
     if (!known) throw std::runtime_error("unknown operation " + op);
@@ -458,7 +482,10 @@ int main(int argc, char** argv) {
     } else if (dim == 2) {
       r = count ? run2<CountingK>(xy, n, order, ordered) : run2<Epick>(xy, n, order, false);
     } else {
-      r = count ? run3<CountingK>(xy, n, order, ordered) : run3<Epick>(xy, n, order, false);
+      int cgal_sort = op == "dt3-hilbert-sort" ? 1 : op == "dt3-spatial-sort" ? 2 : 0;
+      bool one_by_one = ordered || cgal_sort;
+      r = count ? run3<CountingK>(xy, n, order, one_by_one, cgal_sort)
+                : run3<Epick>(xy, n, order, false, cgal_sort);
     }
     if (!out_path.empty()) write_npy_i64(out_path, r.simplices, r.simplices.size() / (dim + 1), dim + 1);
     std::printf("{\"op\": \"%s\", \"n\": %ld, \"seconds\": %.9f, \"tsc_cycles\": %llu, "
