@@ -10,7 +10,6 @@ metadata.  The paper's text: 13-14x on 16 cores, close to 17x on 16 cores
 with 32 threads for Uniform, Circle and Spiral, +30% from Hyperthreading.
 The right panel compares parallel efficiency (speedup / threads), the one
 quantity that carries over between a 2-core and a 32-thread machine."""
-import json
 import os
 import sys
 
@@ -65,10 +64,7 @@ def speedups(df):
 
 
 def _topology(out):
-    try:
-        meta = json.loads((out / "fig6" / "metadata.json").read_text())
-    except (OSError, ValueError):
-        return None, None
+    meta = results.metadata(out, "fig6")
     return meta.get("physical_cores"), meta.get("logical_cpus")
 
 

@@ -86,12 +86,7 @@ def plot(df, out):
         ax.set_title(f"{model} (Table {liu.MODELS[model][0]})", fontsize=9)
         ax.grid(axis="y", alpha=0.3)
     axes[0][0].set_ylabel("time / Kd-tree order's time")
-    meta = {}
-    try:
-        import json
-        meta = json.loads((out / "liu_times" / "metadata.json").read_text())
-    except (OSError, ValueError):
-        pass
+    meta = results.metadata(out, "liu_times")
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=7, fontsize=8, frameon=False)
     fig.suptitle("Paper 2, Tables 1-7: insertion time over the Kd order's, order building "

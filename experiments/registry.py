@@ -2,10 +2,14 @@
 declares an ``EXPERIMENT`` (experiments.experiment.Experiment), and the
 catalogue of the papers' published figures and tables they regenerate."""
 import importlib
+import os
 import pkgutil
 
-_NOT_EXPERIMENTS = {"__main__", "all", "experiment", "liu", "machine", "registry", "report",
-                    "results", "runner"}
+from . import results
+from .experiment import results_root
+
+_NOT_EXPERIMENTS = {"__main__", "all", "experiment", "liu", "machine", "perf", "registry",
+                    "report", "results", "runner"}
 
 # Every result of both papers, in the papers' order.
 PUBLISHED = ([("Paper 1", f"Fig. {k}") for k in (1, 3, 4, 5, 6, 7)] + [("Paper 1", "Table 1")]
@@ -44,5 +48,25 @@ def listing():
         lines.append(f"{item[0]} {item[1]:9s} {what}")
     for e in exps.values():
         if not e.reproduces:
-            lines.append(f"{'benchmark':17s} {e.command:34s} {e.title}")
+            kind = "benchmark" if e.name.startswith("bench") else "analysis"
+            lines.append(f"{kind:17s} {e.command:34s} {e.title}")
     return "\n".join(lines)
+
+
+def for_notebook(default_root):
+    """(scale, results root, stored) as a notebook reads them from the
+    environment: LFQT_SCALE (default "default"), LFQT_RESULTS (default
+    ``default_root``), and LFQT_RUN_MISSING=1 to run a missing smoke-scale
+    experiment first.  ``stored(name)`` is the experiment's DataFrame or
+    None, after a line naming the command that makes it."""
+    scale = os.environ.get("LFQT_SCALE", "default")
+    root = results_root(os.environ.get("LFQT_RESULTS", default_root), scale)
+    run_missing = os.environ.get("LFQT_RUN_MISSING") == "1" and scale == "smoke"
+
+    def fetch(name):
+        df = results.stored(root, name, scale)
+        if df is None and run_missing:
+            experiments()[name].main(["--scale", "smoke", "--out", str(root.parent), "--quiet"])
+            df = results.stored(root, name, scale)
+        return df
+    return scale, root, fetch

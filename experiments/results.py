@@ -129,3 +129,23 @@ def rate(n, seconds):
 def published(name):
     """results/published/<name>.csv as a DataFrame (strings kept as given)."""
     return pd.read_csv(PUBLISHED / f"{name}.csv", dtype=str, keep_default_na=False)
+
+
+def stored(root, name, scale="default"):
+    """The results of experiment ``name`` under ``root`` as a DataFrame, or
+    None after printing the command that makes them (for the notebooks)."""
+    path = Path(root) / name / "results.csv"
+    if not path.exists():
+        flag = "" if scale == "default" else f" --scale {scale}"
+        print(f"no {name} results under {root}: run `python -m experiments.{name}{flag}`")
+        return None
+    return load(path.parent)
+
+
+def metadata(root, name):
+    """The metadata sidecar of experiment ``name`` under ``root`` ({} if none)."""
+    try:
+        return json.loads((Path(root) / name / "metadata.json").read_text())
+    except (OSError, ValueError):
+        return {}
+

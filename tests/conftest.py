@@ -56,3 +56,18 @@ def triangle_set(simplices):
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+@pytest.fixture(scope="session")
+def smoke_results(tmp_path_factory):
+    """The main job at smoke scale, run once per session: (results root of
+    the smoke scale, everything it printed)."""
+    import contextlib
+    import io
+
+    from experiments import all as all_experiments
+    out = tmp_path_factory.mktemp("main_job")
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text):
+        assert all_experiments.main(["--scale", "smoke", "--out", str(out), "--quiet"]) == 0
+    return out / "smoke", text.getvalue()
