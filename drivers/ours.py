@@ -11,6 +11,9 @@ from lfqt.orders import ORDERS
 
 from .base import Peer, Result
 
+# the hybrid method's leaf sizes as peers (experiments.hybrid sweeps them)
+LEAF_SIZES = [16, 64, 256, 1024, 4096, 16384, 65536, 262144, 1048576]
+
 
 def _build_info():
     import numba
@@ -32,13 +35,18 @@ class LfqtDC(Peer):
     options = ("threads",)
     bytes_per_point = 300
 
-    def __init__(self, subdivision="lfqt", filter="level"):
+    def __init__(self, subdivision="lfqt", filter="level", leaf_size=None):
         self.subdivision = subdivision
         self.filter = filter  # the stage-1 bound: the LFQT's level bound or Triangle's constant
         self.threads = 1
+        # leaf_size: the hybrid method (insertion in the LFQT's cells, paper 1's open question)
+        self.method = "hybrid" if leaf_size else "dc"
+        self.leaf_size = leaf_size
         self.name = "lfqt-dc" if subdivision == "lfqt" else f"lfqt-dc-{subdivision}"
         if filter != "level":
             self.name += f"-{filter}"
+        if leaf_size:
+            self.name = f"lfqt-hybrid-{leaf_size}"
 
     def version(self):
         return lfqt.__version__
@@ -47,15 +55,18 @@ class LfqtDC(Peer):
         return _build_info()
 
     def prepare(self, points, order=None, count=False):
+        # counts come with every run: the kernels count anyway (free)
         self.points = np.ascontiguousarray(points)
-        self.count = count
         self.tri = None
-        lfqt.triangulate(self.points[:64], subdivision=self.subdivision)  # JIT warm-up
+        lfqt.triangulate(self.points[:64], subdivision=self.subdivision, **self._method())
+
+    def _method(self):
+        return dict(method="hybrid", leaf_size=self.leaf_size) if self.leaf_size else {}
 
     def run(self):
         self.tri = None  # the previous result must not inflate this run's peak memory
         self.tri = lfqt.triangulate(self.points, subdivision=self.subdivision,
-                                    threads=self.threads, counters=self.count, filter=self.filter)
+                                    threads=self.threads, filter=self.filter, **self._method())
 
     def result(self):
         return _result(self.tri)
@@ -175,6 +186,7 @@ class LfqtOrder(Peer):
 PEERS = {"lfqt-dc": lambda: LfqtDC("lfqt"),
          "lfqt-dc-constant": lambda: LfqtDC("lfqt", "constant"),
          "lfqt-dc-alternating": lambda: LfqtDC("alternating")}
+PEERS.update({f"lfqt-hybrid-{k}": (lambda k: lambda: LfqtDC(leaf_size=k))(k) for k in LEAF_SIZES})
 PEERS["lfqt-radix"] = LfqtRadixSort
 PEERS.update({f"lfqt-order-{o}": (lambda o: lambda: LfqtOrder(o))(o) for o in ORDERS})
 PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})

@@ -80,7 +80,7 @@ def _select_axis(X, ids, lo, hi, k, axis):
             return
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
     n, d = P.shape
     ids = np.arange(n)
@@ -262,7 +262,7 @@ def _median_split(ids, lo, hi, X, axis, up):
     return lo + (hi - mid)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _hilbert_median_2d(X, ids, lo, hi, x, upx, upy):
     if hi - lo <= 1:
         return
@@ -276,7 +276,7 @@ def _hilbert_median_2d(X, ids, lo, hi, x, upx, upy):
     _hilbert_median_2d(X, ids, m3, hi, y, not upy, not upx)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _hilbert_median_3d(X, ids, lo, hi, x, upx, upy, upz):
     if hi - lo <= 1:
         return

@@ -229,3 +229,18 @@ def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
         liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--dists", "uniform"])
     with pytest.raises(SystemExit, match="not in this experiment"):
         liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--sizes", "123"])
+
+
+def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(tmp_path, capsys):
+    from experiments import hybrid
+    assert hybrid.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
+                        "--dists", "uniform,grid"]) == 0
+    df = results.load(tmp_path / "smoke" / "hybrid")
+    assert (df["status"] == "ok").all()
+    assert set(df["peer"]) == {"lfqt-dc"} | {f"lfqt-hybrid-{k}" for k in hybrid.LEAVES["smoke"]}
+    c = df.loc[df["peer"] == "lfqt-hybrid-64", "counts"].iloc[0]
+    assert c["phase_insert_lower"] > 0 and c["orientation_tests"] > 0
+    best = hybrid.best_leaves(df)
+    assert set(best) == {(d, 20_000, t) for d in ("uniform", "grid") for t in (1, 2)}
+    assert "hybrid time / dc time" in capsys.readouterr().out
+    assert (tmp_path / "smoke" / "figures" / "hybrid.png").stat().st_size > 20000

@@ -17,17 +17,19 @@ from .._input import FORMATS, coordinates2d, index_dtype
 from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import Workers
-from . import bins, output, subdivide
+from . import bins, hybrid, output, subdivide
 from .layout import PART, SINGLE, UNUSED, XMAX, XMIN, Mesh
 from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
 FILTERS = ("level", "constant")
 SCHEDULES = ("levels", "tasks")
+METHODS = ("dc", "hybrid")
+LEAF_SIZE = 1024  # keys per bin of the hybrid method (see experiments.hybrid)
 
 
 def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter="level",
-                schedule="levels"):
+                schedule="levels", method="dc", leaf_size=None, leaf_order="hilbert"):
     """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
 
     Parameters
@@ -56,21 +58,34 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
         (default, measured faster on our 2-core machines, see lfqt.dc.bins),
         or each as soon as both of its children are done (the paper's
         split-list).
+    method : {"dc", "hybrid"}
+        Divide and conquer all the way down, or (paper 1's open question,
+        lfqt.dc.hybrid) incremental insertion in the LFQT cells of at most
+        ``leaf_size`` keys (default LEAF_SIZE) in ``leaf_order``
+        ("hilbert" or "kdtree"), merged by the divide and conquer above.
+        Both give the exact Delaunay triangulation.
 
     Returns
     -------
     Triangulation
     """
     for name, value, allowed in (("subdivision", subdivision, SUBDIVISIONS),
-                                 ("filter", filter, FILTERS), ("schedule", schedule, SCHEDULES)):
+                                 ("filter", filter, FILTERS), ("schedule", schedule, SCHEDULES),
+                                 ("method", method, METHODS), ("leaf_order", leaf_order,
+                                                               hybrid.ORDERS)):
         if value not in allowed:
             raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, "
                              f"got {value!r}")
     if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 1):
         raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+    if method == "hybrid" and subdivision != "lfqt":
+        raise ValueError("method='hybrid' inserts in the LFQT's cells: subdivision must be 'lfqt'")
+    if leaf_size is not None and (not isinstance(leaf_size, (int, np.integer)) or leaf_size < 1):
+        raise ValueError(f"leaf_size must be a positive integer, got {leaf_size!r}")
     threads = int(threads if threads is not None else os.cpu_count() or 1)
+    hybrid_leaf = (leaf_size or LEAF_SIZE, leaf_order) if method == "hybrid" else None
     with Workers(threads) as workers:
-        return _triangulate(points, workers, subdivision, counters, filter, schedule)
+        return _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf)
 
 
 def _sorted_points(x, y, scale_exp, workers, idx_dtype):
@@ -129,7 +144,7 @@ def _serial(state, subdivision, counts):
                          merge_top=0.0)
 
 
-def _triangulate(points, workers, subdivision, counters, filter, schedule):
+def _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf=None):
     t0 = time.perf_counter()
     x, y, scale_exp = coordinates2d(points, workers)
     n = x.shape[0]
@@ -142,10 +157,11 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
     state = _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers)
     del P, khi, klo
     counts = new_counters()
-    parallel_run = subdivision == "lfqt" and workers.threads > 1 and n > 1
+    parallel_run = subdivision == "lfqt" and (workers.threads > 1 or hybrid_leaf) and n > 1
     t_alloc = time.perf_counter()
     if parallel_run:
-        root, counts, pstats = bins.build(state, workers, schedule)
+        leaf, order = hybrid_leaf or (None, None)
+        root, counts, pstats = bins.build(state, workers, schedule, leaf, order)
         phases = dict(subdivide_top=pstats["subdivide_top"], **pstats["thread_seconds"])
         n_bins = pstats["bins"]
     else:
@@ -174,7 +190,10 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule):
         "filter": "level" if level_filter else "constant",
         "threads": workers.threads,
         "schedule": schedule if parallel_run else "serial",
+        "method": "hybrid" if hybrid_leaf else "dc",
     }
+    if hybrid_leaf:
+        stats["leaf_size"], stats["leaf_order"] = hybrid_leaf
     if counters:
         stats["counts"] = as_dict(counts)
         stats["per_point"] = per_point(stats["counts"], n_distinct)

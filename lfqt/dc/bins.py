@@ -23,6 +23,7 @@ import time
 import numpy as np
 
 from ..predicates.counters import new_counters
+from .hybrid import insert_bin
 from .layout import PART
 from .subdivide import subdivide_top
 
@@ -52,16 +53,22 @@ class _Tree:
         self.bins = [k for k in range(m) if nodes[k, 2] < 0]
 
 
-def build(state, workers, schedule="levels"):
+def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     """Triangulate the sorted points of ``state`` (lfqt.dc.state.State) on
-    ``workers``.  Returns (root partition row, counts, stats)."""
+    ``workers``.  Returns (root partition row, counts, stats).  ``bin_size``
+    caps the keys per bin (default: BINS_PER_THREAD bins per thread); with
+    ``insert_order`` each bin is triangulated by insertion in that order
+    (lfqt.dc.hybrid) instead of by its own merges."""
     threads = workers.threads
     t0 = time.perf_counter()
-    nodes = subdivide_top(state.khi, state.klo, state.wide, state.n, bin_size_for(state.n, threads))
+    nodes = subdivide_top(state.khi, state.klo, state.wide, state.n,
+                          bin_size or bin_size_for(state.n, threads))
     tree = _Tree(nodes)
     t_top = time.perf_counter() - t0
     lock = threading.Lock()
-    thread_seconds = {"subdivide_lower": 0.0, "merge_lower": 0.0, "merge_top": 0.0}
+    thread_seconds = ({"order_lower": 0.0, "insert_lower": 0.0} if insert_order else
+                      {"subdivide_lower": 0.0, "merge_lower": 0.0})
+    thread_seconds["merge_top"] = 0.0
     counters = []
 
     def add_time(key, dt):
@@ -72,11 +79,16 @@ def build(state, workers, schedule="levels"):
         lo, hi = int(nodes[k, 0]), int(nodes[k, 1])
         cnt = new_counters()
         a = time.perf_counter()
-        end = state.subdivide(lo, hi, 2 * lo)
-        b = time.perf_counter()
-        state.merge(2 * lo, end, cnt, tree.parts, 0, tree.parts[k:k + 1])
-        add_time("subdivide_lower", b - a)
-        add_time("merge_lower", time.perf_counter() - b)
+        if insert_order:  # the order's time apart from the insertion's
+            t_order = insert_bin(state, lo, hi, insert_order, cnt, tree.parts[k:k + 1])
+            add_time("order_lower", t_order)
+            add_time("insert_lower", time.perf_counter() - a - t_order)
+        else:
+            end = state.subdivide(lo, hi, 2 * lo)
+            b = time.perf_counter()
+            state.merge(2 * lo, end, cnt, tree.parts, 0, tree.parts[k:k + 1])
+            add_time("subdivide_lower", b - a)
+            add_time("merge_lower", time.perf_counter() - b)
         counters.append(cnt)
 
     def run_merge(k):
@@ -91,6 +103,8 @@ def build(state, workers, schedule="levels"):
     t1 = time.perf_counter()
     if len(nodes) == 1:
         run_bin(0)
+    elif workers.pool is None:  # one thread (the hybrid method): bins, then merges, in order
+        _run_levels(tree, None, run_bin, run_merge)
     elif schedule == "tasks":
         _run_tasks(tree, workers.pool, run_bin, run_merge)
     elif schedule == "levels":
@@ -153,6 +167,7 @@ def _run_levels(tree, pool, run_bin, run_merge):
     for k in range(len(nodes)):  # post-order: children before parents
         if nodes[k, 2] >= 0:
             height[k] = 1 + max(height[nodes[k, 4]], height[nodes[k, 5]])
-    list(pool.map(run_bin, tree.bins))
+    each = pool.map if pool is not None else map
+    list(each(run_bin, tree.bins))
     for h in range(1, int(height.max()) + 1):
-        list(pool.map(run_merge, np.flatnonzero(height == h)))
+        list(each(run_merge, np.flatnonzero(height == h)))

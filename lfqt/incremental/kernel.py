@@ -468,7 +468,7 @@ def _start(P, d, s, cells):
     return ncells
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def insert_all(P, d, perm, hint, span, capacity=0):
     """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
     counts, ok).  ok is False when the points span fewer than d dimensions."""

@@ -1,0 +1,97 @@
+"""Paper 1's open question (sections 4.3 and 5): is point insertion in the
+lower levels of the LFQT faster than divide and conquer there?  lfqt's
+hybrid method (lfqt.dc.hybrid: Bowyer-Watson in Hilbert order inside each
+quad-tree cell of at most L keys, the divide and conquer's merges above)
+against pure divide and conquer, for a sweep of L, on the five
+distributions, on one and on all threads.  The time is split into its
+phases (sort, building the order in the bins, insertion in the bins, merges
+above), and the predicates are counted per point."""
+import os
+import sys
+
+import numpy as np
+
+from drivers.ours import LEAF_SIZES
+
+from . import results
+from .experiment import Experiment, figure_paths
+from .runner import Cell
+
+DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+SIZES = {"smoke": [20_000], "default": [1_000_000], "paper": [1_000_000, 10_000_000]}
+LEAVES = {"smoke": [64, 1024], "default": [16, 256, 4096, 65536, 1048576], "paper": LEAF_SIZES}
+
+
+def grid(scale, threads):
+    many = threads if threads > 1 else max(os.cpu_count() or 1, 2)
+    peers = ["lfqt-dc"] + [f"lfqt-hybrid-{k}" for k in LEAVES[scale]]
+    return [Cell(p, d, n, threads=t) for n in SIZES[scale] for t in (1, many) for d in DISTS
+            for p in peers]
+
+
+def leaf(peer):
+    return int(peer.rsplit("-", 1)[1]) if peer.startswith("lfqt-hybrid") else None
+
+
+def best_leaves(df):
+    """{(distribution, n, threads): (best leaf, its median, dc's median)}."""
+    s = results.summarize(df, by=["peer", "distribution", "n", "threads"])
+    out = {}
+    for (peer, d, n, t), row in s.iterrows():
+        if leaf(peer) and row["median"]:
+            dc = results.median(s, "lfqt-dc", d, n, t)
+            best = out.get((d, n, t))
+            if best is None or row["median"] < best[1]:
+                out[(d, n, t)] = (leaf(peer), row["median"], dc)
+    return out
+
+
+def plot(df, out):
+    import matplotlib.pyplot as plt
+    s = results.summarize(df, by=["peer", "distribution", "n", "threads"])
+    keys = sorted({(n, t) for _, _, n, t in s.index})
+    fig, axes = plt.subplots(1, len(keys), figsize=(6 * len(keys), 4.2), squeeze=False,
+                             sharey=True)
+    colors = dict(zip(DISTS, ["#1b6ca8", "#3aa655", "#d1495b", "#edae49", "#7b3294"]))
+    print(f"\n{'distribution':12} {'n':>10} {'threads':>7} {'dc s':>8} " + " ".join(
+        f"{'L=' + str(k):>9}" for k in sorted({leaf(p) for p, *_ in s.index if leaf(p)}))
+        + "   (hybrid time / dc time)")
+    for ax, (n, t) in zip(axes[0], keys):
+        for d in DISTS:
+            dc = results.median(s, "lfqt-dc", d, n, t)
+            pts = sorted((leaf(p), m) for (p, dd, nn, tt), m in s["median"].items()
+                         if leaf(p) and (dd, nn, tt) == (d, n, t) and m)
+            if not pts or not dc:
+                continue
+            ax.plot([k for k, _ in pts], [m / dc for _, m in pts], "-o", color=colors[d],
+                    label=d)
+            print(f"{d:12} {n:>10,} {t:>7} {dc:8.3f} " + " ".join(f"{m / dc:9.2f}" for _, m in pts))
+        ax.axhline(1.0, color="black", lw=0.8, ls=":")
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("leaf size L (keys per bin triangulated by insertion)")
+        ax.set_title(f"{n:,} points, {t} thread{'s' if t > 1 else ''}", fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("hybrid time / divide-and-conquer time (below 1: hybrid wins)")
+    axes[0][0].legend(fontsize=8)
+    ok = df[(df["status"] == "ok") & df["peer"].str.startswith("lfqt-hybrid")]
+    print("\nphases of the hybrid (thread-seconds per point, ns, of the median run): sort, order "
+          "in the bins, insertion in the bins, merges above")
+    for (peer, d, n, t), g in ok.groupby(["peer", "distribution", "n", "threads"]):
+        c = g["counts"].iloc[len(g) // 2]
+        print(f"{peer:20} {d:10} {n:>10,} {t:>2}: " + ", ".join(
+            f"{c.get(f'phase_{k}', np.nan) / n * 1e9:7.1f}" for k in
+            ("sort", "order_lower", "insert_lower", "merge_top"))
+            + f"   orient/pt {c.get('orientation_tests', 0) / n:5.2f}, in-circle/pt "
+              f"{c.get('incircle_tests', 0) / n:5.2f}")
+    fig.suptitle("Paper 1's open question: insertion in the LFQT's cells (hybrid) against divide "
+                 "and conquer", fontsize=10)
+    fig.tight_layout()
+    return figure_paths(fig, out, "hybrid")
+
+
+EXPERIMENT = Experiment("hybrid", "paper 1's open question: insertion in the LFQT's lower "
+                        "levels against divide and conquer, over the leaf size", grid, plot)
+main = EXPERIMENT.main
+
+if __name__ == "__main__":
+    sys.exit(main())

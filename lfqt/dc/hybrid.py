@@ -1,0 +1,123 @@
+"""Paper 1's open question (sections 4.3 and 5): incremental insertion in the
+lower levels of the LFQT, divide and conquer above them.
+
+A bin (a quad-tree cell of at most ``leaf_size`` keys, lfqt.dc.bins) is
+triangulated by lfqt's Bowyer–Watson inserter in Hilbert or Kd-tree order
+of its own points, and its cells are written into the bin's own triangle
+slots in the layout the merge reads (lfqt.dc.layout): finite cells become
+triangles, infinite cells ghosts.  A bin of m distinct points owns the 2(m-1)
+slots of its m-1 merges, and its triangulation has exactly 2(m-1) cells,
+ghosts included (Euler), so the slots are filled exactly.  The merges above
+the bins run unchanged.  A bin whose points are collinear (no cells) is
+merged by the divide and conquer instead.
+
+The inserter's infinite cell (.., INF, ..) is oriented so that a point
+beyond its hull edge in place of INF makes it positive; rotated to put INF
+in slot 2 it is the merge's ghost (a, b, GHOST), hull edge b -> a::
+
+        a <------- b      hull edge b -> a (counter-clockwise around the hull)
+         \\  real  /
+          \\      /        ghost (a, b, GHOST) lies beyond it
+"""
+import time
+
+import numpy as np
+from numba import njit
+
+from .. import orders
+from ..incremental import kernel as insertion
+from ..indexing import u
+from ..predicates.counters import N_PREDICATE
+from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, less, slot
+
+ORDERS = ("hilbert", "kdtree")
+
+
+@njit(cache=True, nogil=True)
+def fill_bin(C, N, alive, ids, slots, P, T, ghost_out, part):
+    """Write the live cells of a 2D insertion (C, N, alive; vertex k of the
+    insertion is point ids[k]) into triangle ``slots`` of T, set ghost_out of
+    the hull vertices and the partition row ``part``.  Returns False when
+    the cell count does not match the slots (never for a valid bin)."""
+    m = C.shape[0]
+    tslot = np.full(m, -1, dtype=np.int64)
+    rot = np.zeros(m, dtype=np.int64)  # T index i is C index (i + rot) % 3
+    k = 0
+    for c in range(m):
+        if not alive[c]:
+            continue
+        if k == slots.shape[0]:
+            return False
+        tslot[c] = slots[k]
+        k += 1
+        for i in range(3):
+            if C[c, i] < 0:
+                rot[c] = (i + 1) % 3
+    if k != slots.shape[0]:
+        return False
+    for c in range(m):
+        t = tslot[c]
+        if t < 0:
+            continue
+        for i in range(3):
+            v = C[c, (i + rot[c]) % 3]
+            T[slot(t, i)] = GHOST if v < 0 else ids[v]
+        if T[slot(t, 2)] == GHOST:  # ghost (a, b, GHOST): hull edge b -> a leaves b
+            ghost_out[u(T[slot(t, 1)])] = t
+    for c in range(m):
+        t = tslot[c]
+        if t < 0:
+            continue
+        for i in range(3):
+            a = T[slot(t, i)]
+            b = T[slot(t, (i + 1) % 3)]
+            t2 = tslot[N[c, (i + 2 + rot[c]) % 3]]
+            for j in range(3):
+                if T[slot(t2, j)] == b and T[slot(t2, (j + 1) % 3)] == a:
+                    T[slot(t, 3 + i)] = 3 * t2 + j
+    v0 = ids[0]
+    for j in range(SINGLE):
+        part[j] = v0
+    part[SINGLE] = 0
+    for k in range(1, ids.shape[0]):
+        v = ids[k]
+        x, y = P[u(v), 0], P[u(v), 1]
+        if less(P[u(part[XMAX]), 0], P[u(part[XMAX]), 1], x, y, 0):
+            part[XMAX] = v
+        if less(x, y, P[u(part[XMIN]), 0], P[u(part[XMIN]), 1], 0):
+            part[XMIN] = v
+        if less(P[u(part[YMAX]), 0], P[u(part[YMAX]), 1], x, y, 1):
+            part[YMAX] = v
+        if less(x, y, P[u(part[YMIN]), 0], P[u(part[YMIN]), 1], 1):
+            part[YMIN] = v
+    return True
+
+
+def insert_bin(state, lo, hi, order, counts, part):
+    """Triangulate the bin of sorted keys [lo, hi) of ``state`` by insertion
+    in ``order`` into its slots, writing its partition row into ``part``
+    (shape (1, PART)).  Falls back to the divide and conquer's own merges
+    for a bin of fewer than 3 distinct points or collinear ones.  Returns
+    the seconds spent building the order."""
+    end = state.subdivide(lo, hi, 2 * lo)
+    ops = state.ops[2 * lo:end]
+    ids = lo + np.flatnonzero(state.rep[lo:hi] == np.arange(lo, hi, dtype=state.rep.dtype))
+    t_order = 0.0
+    if len(ids) >= 3:
+        P = np.ascontiguousarray(state.mesh.P[ids])
+        t0 = time.perf_counter()
+        perm, hints = orders.order(P, order)
+        t_order = time.perf_counter() - t0
+        span = float(np.abs(P).max(initial=1.0)) or 1.0
+        C, N, alive, _, _, cnt, ok = insertion.insert_all(P, 2, perm, hints, span)
+        if ok:
+            p = ops[ops >= 0] >> 8
+            slots = np.sort(np.concatenate((2 * (p - 1), 2 * (p - 1) + 1)))
+            if fill_bin(C, N, alive, ids.astype(np.int64), slots, state.mesh.P, state.mesh.T,
+                        state.mesh.ghost_out, part[0]):
+                counts += cnt[:N_PREDICATE]
+                return t_order
+            raise RuntimeError(f"bin [{lo}, {hi}): {int(alive.sum())} cells for {len(slots)} "
+                               "slots")
+    state.merge(2 * lo, end, counts, part, 0, part)
+    return t_order
