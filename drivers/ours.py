@@ -22,6 +22,18 @@ def _build_info():
             "flags": "compiled for the host CPU (numba's default target, no fastmath)"}
 
 
+class _Ours(Peer):
+    """What every peer of ours shares: the family, lfqt's version and the
+    numba build that compiled it."""
+    family = "ours"
+
+    def version(self):
+        return lfqt.__version__
+
+    def build_info(self):
+        return _build_info()
+
+
 def _result(tri):
     counts = dict(tri.stats.get("counts", {}))
     counts.update({f"seconds_{k}": v for k, v in tri.stats["seconds"].items()})
@@ -30,8 +42,7 @@ def _result(tri):
     return Result(tri.simplices, counts)
 
 
-class LfqtDC(Peer):
-    family = "ours"
+class LfqtDC(_Ours):
     options = ("threads",)
     bytes_per_point = 300
 
@@ -47,12 +58,6 @@ class LfqtDC(Peer):
             self.name += f"-{filter}"
         if leaf_size:
             self.name = f"lfqt-hybrid-{leaf_size}"
-
-    def version(self):
-        return lfqt.__version__
-
-    def build_info(self):
-        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         # counts come with every run: the kernels count anyway (free)
@@ -72,10 +77,9 @@ class LfqtDC(Peer):
         return _result(self.tri)
 
 
-class LfqtInsert(Peer):
+class LfqtInsert(_Ours):
     """lfqt.insert in a given order; the order is built inside the timed run,
     as paper 2's times include it."""
-    family = "ours"
     dims = (2, 3)
     bytes_per_point = 1200
 
@@ -83,12 +87,6 @@ class LfqtInsert(Peer):
         self.order = order
         self.name = f"lfqt-insert-{order}"
         self.dim = 3
-
-    def version(self):
-        return lfqt.__version__
-
-    def build_info(self):
-        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
@@ -104,12 +102,11 @@ class LfqtInsert(Peer):
         return _result(self.tri)
 
 
-class LfqtRadixSort(Peer):
+class LfqtRadixSort(_Ours):
     """lfqt's radix sort (fqDel 3.1) on the points' x values as float32: the
     operation of paper 1's claim "1M floats sorted in 0.89 ms".  Each run
     sorts a fresh copy of the order-preserving keys; the peer times the sort
     alone, without the copy."""
-    family = "ours"
     options = ("threads",)
     bytes_per_point = 64
     triangulates = False
@@ -117,12 +114,6 @@ class LfqtRadixSort(Peer):
     def __init__(self):
         self.name = "lfqt-radix"
         self.threads = 1
-
-    def version(self):
-        return lfqt.__version__
-
-    def build_info(self):
-        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         from lfqt.radix import sort_keys
@@ -149,10 +140,9 @@ class LfqtRadixSort(Peer):
         return Result(None, {"sorted": int(ok), "values": len(self.keys)})
 
 
-class LfqtOrder(Peer):
+class LfqtOrder(_Ours):
     """Building one insertion order of lfqt.orders alone (paper 2, Table 15:
     sequence building time)."""
-    family = "ours"
     dims = (2, 3)
     bytes_per_point = 200
     triangulates = False
@@ -161,12 +151,6 @@ class LfqtOrder(Peer):
         self.order = order
         self.name = f"lfqt-order-{order}"
         self.dim = 3
-
-    def version(self):
-        return lfqt.__version__
-
-    def build_info(self):
-        return _build_info()
 
     def prepare(self, points, order=None, count=False):
         from lfqt import orders
