@@ -44,12 +44,12 @@ def listing():
     lines = []
     for item in PUBLISHED:
         e = by_item.get(item)
-        what = f"{e.command:34s} {e.title}" if e else "(not reproduced yet)"
+        what = f"{e.command:38s} {e.title}" if e else "(not reproduced yet)"
         lines.append(f"{item[0]} {item[1]:9s} {what}")
     for e in exps.values():
         if not e.reproduces:
             kind = "benchmark" if e.name.startswith("bench") else "analysis"
-            lines.append(f"{kind:17s} {e.command:34s} {e.title}")
+            lines.append(f"{kind:17s} {e.command:38s} {e.title}")
     return "\n".join(lines)
 
 
