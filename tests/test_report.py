@@ -73,3 +73,17 @@ def test_level_bound_speedup_below_the_noise_is_not_testable(tmp_path, ratio, ve
     _store(tmp_path, "table1", times)
     rows = report.table1_bounds(report.Results(tmp_path))
     assert rows[1].verdict == verdict
+
+
+def test_grid_rate_needs_grid_and_another_set_at_the_same_size(tmp_path):
+    times = {("lfqt-dc", "uniform", 1_000_000): 0.3}
+    _store(tmp_path, "fig4", times)
+    row = report.fig4_rates(report.Results(tmp_path))[1]
+    assert row.verdict == report.MISSING  # one set cannot rank the sets
+    times.update({("lfqt-dc", "grid", 1_000_000): 0.2, ("lfqt-dc", "uniform", 100_000): 0.02})
+    _store(tmp_path, "fig4", times)
+    row = report.fig4_rates(report.Results(tmp_path))[1]
+    assert row.verdict == report.HOLDS and "1,000,000: grid" in row.ours
+    times[("lfqt-dc", "grid", 1_000_000)] = 0.5
+    _store(tmp_path, "fig4", times)
+    assert report.fig4_rates(report.Results(tmp_path))[1].verdict == report.FAILS
