@@ -118,10 +118,9 @@ class LfqtRadixSort(_Ours):
     def prepare(self, points, order=None, count=False):
         from lfqt.radix import sort_keys
         from lfqt.workers import Workers
-        bits = np.ascontiguousarray(points[:, 0], dtype=np.float32).view(np.uint32)
-        sign = np.uint32(1 << 31)
-        bits = np.where(bits == sign, np.uint32(0), bits)  # -0.0 as +0.0
-        self.keys = np.where(bits & sign, ~bits, bits | sign).astype(np.uint64)
+        from lfqt.morton import ordered_bits
+        x = np.ascontiguousarray(points[:, 0], dtype=np.float32)
+        self.keys = ordered_bits(x).astype(np.uint64)
         self.sort = sort_keys
         self.workers = Workers(self.threads)
         self.sort(self.keys[:64].copy(), np.arange(64, dtype=np.int32), self.workers)

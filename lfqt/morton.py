@@ -84,6 +84,26 @@ def morton_keys64_into(x, y, khi, klo, lo, hi):
         klo[u(i)] = interleave(ox & _LOW32, oy & _LOW32)
 
 
+def ordered_bits(values):
+    """The order-preserving unsigned images of a float32 or float64 array
+    (ordered_bits32/64, element-wise in numpy): uint32 or uint64."""
+    values = np.ascontiguousarray(values)
+    u = np.dtype(f"uint{8 * values.dtype.itemsize}")
+    sign = u.type(1 << (8 * values.dtype.itemsize - 1))
+    b = values.view(u)
+    b = np.where(b == sign, u.type(0), b)  # -0.0 as +0.0
+    return np.where(b & sign, ~b, b | sign).astype(u)
+
+
+def from_ordered_bits(bits, dtype):
+    """The floats of ``dtype`` whose ordered_bits are ``bits`` (the inverse)."""
+    dtype = np.dtype(dtype)
+    u = np.dtype(f"uint{8 * dtype.itemsize}")
+    bits = np.asarray(bits, dtype=u)
+    sign = u.type(1 << (8 * dtype.itemsize - 1))
+    return np.where(bits & sign, bits ^ sign, ~bits).astype(u).view(dtype)
+
+
 def morton_keys32(x, y):
     """64-bit keys of float32 coordinate arrays."""
     keys = np.empty(x.shape[0], dtype=np.uint64)

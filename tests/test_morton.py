@@ -62,3 +62,16 @@ def test_float32_keys_split_quadrants_by_sign():
     keys = morton.morton_keys32(x, y)
     # x sign is the top bit, y sign the next: (-,-) < (-,+) < (+,-) < (+,+)
     assert list(np.argsort(keys)) == [0, 2, 1, 3]
+
+
+@given(st.lists(st.floats(allow_nan=False, width=32), min_size=1, max_size=50))
+def test_numpy_ordered_bits_match_the_kernels_and_invert(values):
+    from lfqt.morton import from_ordered_bits, ordered_bits, ordered_bits32, ordered_bits64
+    for dtype, kernel, u in ((np.float32, ordered_bits32, np.uint32),
+                             (np.float64, ordered_bits64, np.uint64)):
+        v = np.array(values, dtype=dtype)
+        b = ordered_bits(v)
+        assert b.dtype == u
+        assert [int(x) for x in b] == [int(kernel(u(x))) for x in v.view(u)]
+        assert np.array_equal(from_ordered_bits(b, dtype), v + dtype(0.0))  # -0.0 as +0.0
+        assert list(np.argsort(b, kind="stable")) == list(np.argsort(v, kind="stable"))

@@ -20,6 +20,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from .. import morton
 from .._input import FORMATS, as_exact_float, index_dtype
 from ..workers import Workers
 from . import _sorted_points, subdivide
@@ -74,20 +75,10 @@ def _decode(ops, nops, n):
     return lo, split, hi, bit, parent
 
 
-def _ordered(values, width):
-    """Order-preserving unsigned images of floats (lfqt.morton)."""
-    u = np.dtype(f"uint{width}")
-    b = np.ascontiguousarray(values).view(u).copy()
-    sign = u.type(1 << (width - 1))
-    b[b == sign] = 0  # -0.0 as +0.0
-    return np.where(b & sign, ~b, b | sign)
-
-
-def _floats(ordered, width, fill):
-    """Inverse of _ordered; bit patterns that are NaN become ``fill``."""
-    u = np.dtype(f"uint{width}")
-    sign = u.type(1 << (width - 1))
-    f = np.where(ordered & sign, ordered ^ sign, ~ordered).astype(u).view(f"float{width}")
+def _floats(ordered, dtype, fill):
+    """The float64 values of ordered bits; bit patterns that are NaN become
+    ``fill``."""
+    f = morton.from_ordered_bits(ordered, dtype)
     return np.where(np.isnan(f), fill, f).astype(np.float64)
 
 
@@ -116,7 +107,7 @@ def quadtree(points):
     width, exp_bits, mant_bits, _ = FORMATS[x.dtype]
     u = np.dtype(f"uint{width}")
     first = perm[lo]  # any point of a node carries its prefix
-    ox, oy = _ordered(x[first], width), _ordered(y[first], width)
+    ox, oy = morton.ordered_bits(x[first]), morton.ordered_bits(y[first])
     j = bit // 2
     is_x = bit % 2 == 1
     free_x = np.where(is_x, j + 1, j)
@@ -129,8 +120,8 @@ def quadtree(points):
             depth[k] = depth[parent[k]] + 1
     field = np.where(j == width - 1, "sign", np.where(j >= mant_bits, "exponent", "mantissa"))
     nodes = dict(level=bit + 1, bit=bit, axis=np.where(is_x, 0, 1), field=field,
-                 cut=_floats(cut_bits.astype(u), width, np.inf),
-                 x0=_floats(ox & ~mx, width, -np.inf), x1=_floats(ox | mx, width, np.inf),
-                 y0=_floats(oy & ~my, width, -np.inf), y1=_floats(oy | my, width, np.inf),
+                 cut=_floats(cut_bits, x.dtype, np.inf),
+                 x0=_floats(ox & ~mx, x.dtype, -np.inf), x1=_floats(ox | mx, x.dtype, np.inf),
+                 y0=_floats(oy & ~my, x.dtype, -np.inf), y1=_floats(oy | my, x.dtype, np.inf),
                  depth=depth, parent=parent, lo=lo, split=split, hi=hi)
     return Quadtree(perm.astype(np.int64), nodes)
