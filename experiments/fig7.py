@@ -14,6 +14,8 @@ import sys
 
 import numpy as np
 
+import drivers
+
 from . import results
 from .experiment import Experiment, figure_paths
 from .runner import Cell
@@ -23,18 +25,17 @@ SIZES = {"smoke": [200_000, 400_000],
          "paper": [2_000_000, 4_000_000, 6_000_000, 8_000_000, 10_000_000]}
 PAPER_LARGEST = 500_000_000
 SORT_N = 1_000_000
-LARGEST_BYTES_PER_POINT = 300  # drivers.ours.LfqtDC.bytes_per_point
 CLAIMS = ["fqDel > 4x GPU-DT and > 8x gDel2D (GTX 580)", "Titan: +30% over GTX 580 (estimated)",
           "500M points -> 1G triangles in 8 s (32 threads)", "1M floats sorted in 0.89 ms"]
 
 
 def largest_size(memory_bytes=None, fraction=0.5):
-    """The largest Uniform size whose lfqt peak fits ``fraction`` of the
-    machine's memory, rounded down to one significant digit, at most the
-    paper's 500M."""
+    """The largest Uniform size whose lfqt peak (the peer's memory estimate)
+    fits ``fraction`` of the machine's memory, rounded down to one
+    significant digit, at most the paper's 500M."""
     if memory_bytes is None:
         memory_bytes = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    n = int(fraction * memory_bytes / LARGEST_BYTES_PER_POINT)
+    n = int(fraction * memory_bytes / drivers.make("lfqt-dc").bytes_per_point)
     digits = 10 ** (len(str(n)) - 1)
     return min(PAPER_LARGEST, n // digits * digits)
 
