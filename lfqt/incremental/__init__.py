@@ -49,7 +49,7 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
     t1 = time.perf_counter()
     perm, hints, order_name = _order(P, order, hint, seed)
     t2 = time.perf_counter()
-    span = float(np.abs(P).max(initial=1.0)) or 1.0
+    span = kernel.coordinate_span(P)
     # Store the points in Hilbert order: vertex ids then follow space, so the
     # cells and coordinates a walk touches are close in memory whatever the
     # insertion order (the Kd order jumps across space at every level).

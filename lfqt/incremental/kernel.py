@@ -468,6 +468,12 @@ def _start(P, d, s, cells):
     return ncells
 
 
+def coordinate_span(P):
+    """The largest |coordinate| of the (rescaled) points, 1 for none: the
+    scale insert_all's ``span`` expects."""
+    return float(np.abs(P).max(initial=1.0)) or 1.0
+
+
 @njit(cache=True, nogil=True)
 def insert_all(P, d, perm, hint, span, capacity=0):
     """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
