@@ -51,6 +51,15 @@ def values(table, metric):
             for r in published() if r["table"] == f"Table {table}" and r["metric"] == metric}
 
 
+def paper_value(table, metric, model, order, n):
+    """The paper's value of (model, order) in a table at the printed size
+    nearest n, or None where it is missing or flagged."""
+    rows = {m: (v, flag) for (mm, o, m), (v, _, flag) in values(table, metric).items()
+            if (mm, o) == (model, order)}
+    v, flag = rows.get(nearest(sorted(rows), n), (None, "missing"))
+    return None if flag else v
+
+
 def nearest(ns, n):
     """The published size nearest n, or None."""
     return min(ns, key=lambda m: abs(m - n)) if ns else None

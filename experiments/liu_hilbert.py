@@ -37,13 +37,11 @@ def distances(df):
             for k, metric in enumerate(METRICS):
                 d = []
                 for model, (_, table) in liu.MODELS.items():
-                    pub = {n: (v, flag) for (m, o, n), (v, _, flag) in
-                           liu.values(table, metric).items() if m == model and o == order}
                     for n in df.loc[df["distribution"] == model, "n"].unique():
                         ours = per_point(results.cell(s, peer, model, n, True).get("counts", {}),
                                          n)[k]
-                        v, flag = pub.get(liu.nearest(sorted(pub), n), (None, "x"))
-                        if v and not flag and ours == ours:
+                        v = liu.paper_value(table, metric, model, order, n)
+                        if v and ours == ours:
                             d.append(abs(ours - v) / v)
                 out[(peer, order, metric)] = float(np.mean(d)) if d else float("nan")
     return out
@@ -69,8 +67,9 @@ def plot(df, out):
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
     width = 0.8 / (len(CANDIDATES) + 2)
     colors = ["#66a182", "#9cc9a8", "#2e6b45", "#d1495b", "#eb9aa5", "#8a1c2b"]
-    print(f"\n{'model':10} {'n':>8} " + " ".join(f"{CANDIDATES[p][:18]:>19}" for p in CANDIDATES)
-          + f" {'paper Hilbert':>14} {'paper BRIO':>11}")
+    names = [CANDIDATES[p][:19] for p in CANDIDATES] + ["paper Hilbert", "paper BRIO"]
+    print(f"\n{'model':10} {'n':>8} " + " ".join(f"{name:>19}" for name in names)
+          + "   (orientation / conflicts per point; paper: nearest size, flagged rows blank)")
     for ax, (k, metric) in zip(axes, enumerate(METRICS)):
         for j, peer in enumerate(CANDIDATES):
             vals = []
@@ -80,13 +79,9 @@ def plot(df, out):
             ax.bar(np.arange(len(models)) + j * width, vals, width, color=colors[j],
                    label=CANDIDATES[peer])
         for j, order in enumerate(("hilbert", "brio")):
-            pv = []
-            for m in models:
-                pub = {n: (v, f) for (mm, o, n), (v, _, f) in
-                       liu.values(liu.MODELS[m][1], metric).items() if mm == m and o == order}
-                n = int(df.loc[df["distribution"] == m, "n"].max())
-                v, f = pub.get(liu.nearest(sorted(pub), n), (np.nan, ""))
-                pv.append(np.nan if f else v)
+            pv = [liu.paper_value(liu.MODELS[m][1], metric, m, order,
+                                  int(df.loc[df["distribution"] == m, "n"].max())) or np.nan
+                  for m in models]
             ax.bar(np.arange(len(models)) + (len(CANDIDATES) + j) * width, pv, width,
                    color="#555555" if order == "hilbert" else "#aaaaaa",
                    label=f"paper {order}", hatch="//" if order == "brio" else None)
@@ -96,6 +91,8 @@ def plot(df, out):
     for m in models:
         n = int(df.loc[df["distribution"] == m, "n"].max())
         cells = [per_point(results.cell(s, p, m, n, True).get("counts", {}), n) for p in CANDIDATES]
+        cells += [tuple(liu.paper_value(liu.MODELS[m][1], metric, m, order, n) or np.nan
+                        for metric in METRICS) for order in ("hilbert", "brio")]
         print(f"{m:10} {n:>8,} " + " ".join(f"{o:8.2f} / {c:8.2f}" for o, c in cells))
     d = distances(df)
     print("\nmean relative distance to the paper's rows (orientation, conflicts):")
