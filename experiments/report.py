@@ -46,14 +46,17 @@ class Results:
         self._frames = {}
 
     def frame(self, name):
+        """The experiment's results, or None when it has none (no file, or
+        no rows)."""
         if name not in self._frames:
             path = self.root / name / "results.csv"
-            self._frames[name] = results.load(path.parent) if path.exists() else None
+            df = results.load(path.parent) if path.exists() else None
+            self._frames[name] = None if df is None or df.empty else df
         return self._frames[name]
 
     def summary(self, name, by=results.CELL):
         df = self.frame(name)
-        return None if df is None or df.empty else results.summarize(df, by=by)
+        return None if df is None else results.summarize(df, by=by)
 
     def meta(self, name):
         return results.metadata(self.root, name)
@@ -146,7 +149,7 @@ def fig4_rates(res):
               ("Cluster's rate rises at huge sizes",
                "'slight increase ... towards huge input sizes', from degenerate points (Fig. 4)")]
     df = res.frame("fig4")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(c, p, "fig4") for c, p in claims]
     ok = df[(df["peer"] == "lfqt-dc") & (df["status"] == "ok")]
     rate = (ok.groupby(["distribution", "n"])["seconds_at_3ghz"].min().dropna())
@@ -218,7 +221,7 @@ def fig4_rates(res):
 def fig5_top(res):
     claim = ("the top part takes about 10% at 32 threads", "about 10% at 32 threads (Fig. 5)")
     df = res.frame("fig5")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(*claim, "fig5")]
     from .fig5 import shares
     ok = df[(df["status"] == "ok") & (df["peer"] == "lfqt-dc")]
@@ -236,7 +239,7 @@ def fig5_top(res):
 def fig6_scaling(res):
     claim = ("13 to 14x on 16 cores", "13-14x on 16 cores, ~17x on 16c/32t (Fig. 6)")
     df = res.frame("fig6")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(*claim, "fig6")]
     from .fig6 import speedups
     series = speedups(df)
@@ -413,7 +416,7 @@ def liu_counts_flat(res):
     claim = ("Kd's counts are flat in the size", "Kd orientation and conflicts per point nearly "
              "constant over six sizes (Tables 8-14)")
     df = res.frame("liu_counts")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(*claim, "liu_counts")]
     from .liu_counts import flat_counts
     flat = flat_counts(df)
@@ -514,7 +517,7 @@ def liu_hilbert_question(res):
     claim = ("which order was the paper's Hilbert", "'Hilbert' and 'BRIO' orders in CGAL 4.0 "
              "(Tables 8-14)")
     df = res.frame("liu_hilbert")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(*claim, "liu_hilbert")]
     from .liu_hilbert import CANDIDATES, best_matches
     best = best_matches(df)
@@ -529,7 +532,7 @@ def hybrid_answer(res):
     claim = ("insertion in the LFQT's lower levels is significantly faster than divide and "
              "conquer (paper 1's open question, Sec. 5)", "a question, not measured in the paper")
     df = res.frame("hybrid")
-    if df is None or df.empty:
+    if df is None:
         return [_missing(*claim, "hybrid")]
     from .hybrid import best_leaves
     best = best_leaves(df)
