@@ -12,6 +12,7 @@ keeps the duplicates that rounding creates, as paper 1's float32 Cluster did
 at huge sizes; ``"by-design"`` sets repeat points on purpose.
 """
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -133,11 +134,13 @@ def make(name, n, *, seed=0, dtype="float64", cache=None):
     return cached(key, lambda: generate(name, n, seed=seed, dtype=dtype))
 
 
+@lru_cache(maxsize=None)
 def definition(name):
     """A short hash of everything that defines set ``name``: VERSION, the
     source of its draw function's module and of the drawing and de-duplicating
     code here.  It keys the cache, so that a changed formula never serves a
-    stale file, and results record it (experiments.runner)."""
+    stale file, and results record it (experiments.runner).  Computed once
+    per process: the sources do not change under a running process."""
     import hashlib
     import inspect
     import sys
