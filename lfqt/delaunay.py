@@ -125,12 +125,8 @@ class Delaunay:
         self.min_bound = self.points.min(axis=0)
         self.max_bound = self.points.max(axis=0)
         self.paraboloid_scale, self.paraboloid_shift = self._paraboloid()
-        scale = 2.0 ** tri.stats["scale_exponent"]
-        self._scale = scale
-        self._scaled = self.points * scale
+        self._scale = 2.0 ** tri.stats["scale_exponent"]
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
-        self._s64 = self.simplices.astype(np.int64)
-        self._n64 = self.neighbors.astype(np.int64)
         self._cache = {}
 
     def _paraboloid(self):
@@ -142,6 +138,13 @@ class Delaunay:
             return 1.0, 0.0
         scale = float(np.abs(self.points).max() / (hi - lo))
         return scale, float(-lo * scale)
+
+    def _location(self):
+        """(rescaled points, simplices, neighbors) in the location kernels'
+        frame and dtype, built on the first find_simplex, not with the mesh."""
+        return self._cached("location", lambda: (self.points * self._scale,
+                                                 self.simplices.astype(np.int64),
+                                                 self.neighbors.astype(np.int64)))
 
     def _cached(self, name, build):
         if name not in self._cache:
@@ -299,10 +302,10 @@ class Delaunay:
                              & ((scaled == 0.0) | (np.abs(scaled) >= self._floor))).all(axis=1)
         fast = np.flatnonzero(inside & representable)
         Q = np.ascontiguousarray(scaled[fast])
-        found[fast] = (locate_brute(self._scaled, self._s64, Q) if bruteforce else
-                       locate_walk(self._scaled, self._s64, self._n64, Q, 0))
+        P, S, N = self._location()
+        found[fast] = locate_brute(P, S, Q) if bruteforce else locate_walk(P, S, N, Q, 0)
         for k in np.flatnonzero(inside & ~representable):
-            found[k] = locate_rational(self.points, self._s64, self._n64, q[k])
+            found[k] = locate_rational(self.points, S, N, q[k])
         if tol is not None and tol > 0:
             for k in np.flatnonzero((found < 0) & np.isfinite(q).all(axis=1)):
                 found[k] = self._within_tolerance(q[k], tol)
