@@ -2,6 +2,7 @@
 regenerates, a grid of cells and a plot drawn from stored results only.
 ``Experiment.main`` is the command line every experiment shares."""
 import argparse
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -107,6 +108,13 @@ class Experiment:
         for p in self.plot(results.load(out_dir), root):
             print(p)
         return 0
+
+
+def many_threads(threads):
+    """The thread count of an experiment's "all threads" cells: --threads
+    when it asks for more than one, else every core (at least 2, so that the
+    parallel path runs even on one core)."""
+    return threads if threads > 1 else max(os.cpu_count() or 1, 2)
 
 
 def results_root(out, scale):

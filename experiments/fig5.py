@@ -8,13 +8,12 @@ scheduling).  On several threads the bins run in parallel: their share is
 their thread-seconds over the thread count, so that the shares add up to the
 wall time.  The published figure has no numbers; its text says the top is
 almost nothing on one thread and about 10% at 32 threads."""
-import os
 import sys
 
 import numpy as np
 
 from . import results
-from .experiment import Experiment, figure_paths
+from .experiment import Experiment, figure_paths, many_threads
 from .runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
@@ -26,7 +25,7 @@ COLORS = ["#8d8d8d", "#9ecae1", "#1b6ca8", "#fdae6b", "#d1495b", "#e0e0e0"]
 
 
 def grid(scale, threads):
-    many = threads if threads > 1 else max(os.cpu_count() or 1, 2)
+    many = many_threads(threads)
     return [Cell("lfqt-dc", d, n, threads=t) for n in SIZES[scale] for d in DISTS
             for t in (1, many)]
 

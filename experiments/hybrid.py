@@ -6,7 +6,6 @@ against pure divide and conquer, for a sweep of L, on the five
 distributions, on one and on all threads.  The time is split into its
 phases (sort, building the order in the bins, insertion in the bins, merges
 above), and the predicates are counted per point."""
-import os
 import sys
 
 import numpy as np
@@ -14,7 +13,7 @@ import numpy as np
 from drivers.ours import LEAF_SIZES
 
 from . import results
-from .experiment import Experiment, figure_paths
+from .experiment import Experiment, figure_paths, many_threads
 from .runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
@@ -23,7 +22,7 @@ LEAVES = {"smoke": [64, 1024], "default": [16, 256, 4096, 65536, 1048576], "pape
 
 
 def grid(scale, threads):
-    many = threads if threads > 1 else max(os.cpu_count() or 1, 2)
+    many = many_threads(threads)
     peers = ["lfqt-dc"] + [f"lfqt-hybrid-{k}" for k in LEAVES[scale]]
     return [Cell(p, d, n, threads=t) for n in SIZES[scale] for t in (1, many) for d in DISTS
             for p in peers]
