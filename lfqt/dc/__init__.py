@@ -92,6 +92,16 @@ def _sorted_points(x, y, scale_exp, workers, idx_dtype):
     """Phase 1: Morton keys, radix sort, and the points gathered in Morton
     order as float64 scaled by 2**scale_exp (exact).  Returns (khi, klo,
     perm, P); khi is empty for 64-bit keys."""
+    khi, klo, perm = sorted_keys(x, y, workers, idx_dtype)
+    P = np.empty((x.shape[0], 2), dtype=np.float64)
+    workers.map(workers.chunks(x.shape[0]),
+                lambda c, lo, hi: output.gather_points(x, y, perm, 2.0 ** scale_exp, P, lo, hi))
+    return khi, klo, perm, P
+
+
+def sorted_keys(x, y, workers, idx_dtype):
+    """Morton keys of the points and their radix sort: (khi, klo, perm),
+    khi empty for 64-bit keys (float32 input)."""
     n = x.shape[0]
     chunks = workers.chunks(n)
     perm = np.arange(n, dtype=idx_dtype)
@@ -107,10 +117,7 @@ def _sorted_points(x, y, scale_exp, workers, idx_dtype):
         klo, perm = radix.sort_keys(keys, perm, workers)
         khi = klo[:0]
         del keys
-    P = np.empty((n, 2), dtype=np.float64)
-    workers.map(chunks, lambda c, lo, hi: output.gather_points(x, y, perm, 2.0 ** scale_exp, P,
-                                                               lo, hi))
-    return khi, klo, perm, P
+    return khi, klo, perm
 
 
 def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):

@@ -23,7 +23,7 @@ from numba import njit
 from .. import morton
 from .._input import FORMATS, as_exact_float, index_dtype
 from ..workers import Workers
-from . import _sorted_points, subdivide
+from . import sorted_keys, subdivide
 
 Quadtree = namedtuple("Quadtree", "order nodes")
 Quadtree.__doc__ = """``order``: the input indices in Morton order.  ``nodes``: dict of
@@ -99,7 +99,7 @@ def quadtree(points):
     x, y = arr[:, 0], arr[:, 1]
     n = x.shape[0]
     workers = Workers(1)
-    khi, klo, perm, _ = _sorted_points(x, y, 0, workers, index_dtype(n))
+    khi, klo, perm = sorted_keys(x, y, workers, index_dtype(n))
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
     rep = np.empty(n, dtype=perm.dtype)
     nops = subdivide.subdivide_lfqt(khi, klo, x.dtype == np.float64, 0, n, ops, 0, rep)
