@@ -5,7 +5,9 @@
     verify        exact proof that a mesh is the Delaunay triangulation (lfqt.verification)
     Delaunay      the scipy.spatial.Delaunay interface (lfqt.delaunay)
     quadtree      the LFQT of a point set as a table (lfqt.dc.quadtree)
+    distributed   Tile & Merge on Dask for sets beyond one machine (lfqt.distributed)
 """
+from . import distributed
 from .dc import triangulate
 from .dc.quadtree import quadtree
 from .delaunay import Delaunay
@@ -14,5 +16,5 @@ from .triangulation import DegenerateInputError, Triangulation
 from .verification import VerifyReport, verify
 
 __all__ = ["triangulate", "insert", "Delaunay", "DegenerateInputError", "verify", "Triangulation",
-           "VerifyReport", "quadtree"]
+           "VerifyReport", "quadtree", "distributed"]
 __version__ = "0.1.0"

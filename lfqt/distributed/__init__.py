@@ -1,0 +1,326 @@
+"""Exact Delaunay triangulation of point sets larger than one machine, on Dask.
+
+The scheme is **Tile & Merge** (Caraffa, Memari, Yirci and Brédif, "Tile &
+Merge: Distributed Delaunay Triangulations for Cloud Computing", IEEE
+BigData 2019; proved consistent in Brédif et al., "Provably consistent
+distributed Delaunay triangulation", ISPRS Annals V-2-2020):
+
+1. one pass over the chunks measures them and draws a sample; a k-d split
+   of the sample (median cuts) defines the tiles (lfqt.distributed.partition);
+2. a second pass cuts every chunk into tiles, and each tile gathers its
+   points on a worker;
+3. rounds: each tile triangulates its points and those it has received
+   with ``lfqt.triangulate``, and sends to every other tile the vertices of
+   each face whose closed circumdisk meets that tile's box, until no tile
+   has anything new to send (lfqt.distributed.tiles);
+4. each tile outputs the triangles whose smallest global id is its own;
+   cocircular faces are cut as a fan from their smallest global id, so all
+   tiles cut them alike.
+
+Every decision is exact (lfqt.distributed.geometry).  The result is the
+Delaunay triangulation; where it is not unique (grids, cocircular sets) it
+is one valid Delaunay triangulation, checked tile by tile by ``verify``.
+"""
+import time
+
+import numpy as np
+
+from .._input import MAX_EXP, MIN_ULP_EXP, window_exponent
+from ..triangulation import Triangulation
+from . import partition, sources, tiles as tile_tasks
+from .engine import Dask, Serial
+
+SAMPLE_SIZE = 1 << 17  # points drawn to place the k-d cuts
+SEED = 0
+FORMATS = ("npy", "parquet")
+
+
+def triangulate(points, *, client=None, tiles=None, out=None, format="npy", progress=None):
+    """Exact 2D Delaunay triangulation on a Dask cluster (Tile & Merge).
+
+    Parameters
+    ----------
+    points : array_like (n, 2), dask.array, or str / list of str
+        In-memory points, a dask array (known chunk sizes), or a path or
+        glob of ``.npy`` (n, 2) files or Parquet files (columns x and y, or
+        the first two).  Chunks are read by the workers, one at a time; no
+        process holds the whole set.  Global ids are row numbers in the
+        concatenation of the chunks (files in sorted order).
+    client : dask.distributed.Client, str or None
+        A client, a scheduler address, or None to start a LocalCluster on
+        the local cores for this call (one single-threaded worker process
+        per core, at most 8 GiB each).
+    tiles : int or None
+        Number of tiles (default: about 2**20 points each, at least two per
+        worker).
+    out : str or None
+        A directory: each tile writes its triangles there (``format``) and
+        the call returns the paths.  None: the triangles are gathered into a
+        :class:`lfqt.Triangulation` (for results that fit in memory).
+    format : {"npy", "parquet"}
+        Format of the files written to ``out``: (m, 3) int64 global ids, or
+        Parquet columns a, b, c.
+    progress : bool or None
+        A progress bar per phase (default: when stderr is a terminal).
+
+    Returns
+    -------
+    Triangulation, or (with ``out``) a dict with the file paths and stats.
+    """
+    if format not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    if tiles is not None and (not isinstance(tiles, (int, np.integer)) or tiles < 1):
+        raise ValueError(f"tiles must be a positive integer or None, got {tiles!r}")
+    chunk_list = sources.chunks(points)
+    engine = Dask(client, progress)
+    try:
+        if chunk_list and chunk_list[0][0] == "dask":
+            blocks = engine.client.compute([c[1] for c in chunk_list])
+            chunk_list = [("dask", b, c[2]) for b, c in zip(blocks, chunk_list)]
+        return triangulate_on(chunk_list, engine, tiles, out, format, points)
+    finally:
+        engine.close()
+
+
+def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=None):
+    """Tile & Merge over ``chunk_list`` (lfqt.distributed.sources) on
+    ``engine`` (lfqt.distributed.engine); see ``triangulate``."""
+    t0 = time.perf_counter()
+    rows = [c[2] for c in chunk_list]
+    starts = np.concatenate(([0], np.cumsum(rows))).astype(np.int64)
+    n = int(starts[-1])
+    rate = min(1.0, SAMPLE_SIZE / max(n, 1))
+    stats = engine.gather([engine.submit(partition.chunk_stats, kind, what, int(s), rate, SEED,
+                                         key="measure")
+                           for (kind, what, _), s in zip(chunk_list, starts)], "measure")
+    for (kind, what, expected), st in zip(chunk_list, stats):
+        if st[0] != expected:
+            raise ValueError(f"a {kind} chunk changed while being read: {expected} rows "
+                             f"announced, {st[0]} read")
+    scale_exp = window_exponent(max(s[1] for s in stats), min(s[2] for s in stats),
+                                MAX_EXP, MIN_ULP_EXP)
+    sample = np.concatenate([s[3] for s in stats] + [np.empty((0, 2))]) * 2.0 ** scale_exp
+    T = int(tiles or partition.auto_tiles(n, engine.workers))
+    nodes, cells = partition.kd_tree(sample, T)
+    t_measure = time.perf_counter()
+
+    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T, key="cut")
+            for (kind, what, _), s in zip(chunk_list, starts)]
+    local = [engine.submit(partition.gather_tile,
+                           *[engine.submit(partition.piece, c, t, key="piece") for c in cuts],
+                           key=f"tile-{t}") for t in range(T)]
+    boxes = np.array(engine.gather([engine.submit(_box, loc, key="box") for loc in local],
+                                   "partition"))
+    engine.release(cuts)
+    t_partition = time.perf_counter()
+
+    live = [t for t in range(T) if not np.isnan(boxes[t, 0])]
+    state = {t: tile_tasks.new_state(T) for t in live}
+    inbox = {t: [] for t in live}
+    active, history = list(live), []
+    while active:
+        stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
+                                    boxes, key=f"round{len(history) + 1}-tile{t}")
+                   for t in active}
+        summaries = engine.gather([engine.submit(_item, s, 2, key="summary")
+                                   for s in stepped.values()], f"round {len(history) + 1}")
+        outbox = {t: engine.submit(_item, s, 1, key="outbox") for t, s in stepped.items()}
+        for t, s in stepped.items():
+            state[t] = engine.submit(_item, s, 0, key="state")
+        senders = {}
+        for s in summaries:
+            for j in s["sent"]:
+                senders.setdefault(j, []).append(s["tile"])
+        inbox = {j: engine.submit(tile_tasks.collect, j, *[outbox[i] for i in senders[j]],
+                                  key="inbox") for j in senders}
+        history.append(dict(active=len(active), sent=sum(sum(s["sent"].values())
+                                                         for s in summaries)))
+        active = sorted(senders)
+    t_rounds = time.perf_counter()
+
+    finished = engine.gather([engine.submit(tile_tasks.finish, t, local[t], state[t], out, fmt,
+                                            key="finish") for t in live], "finish")
+    t_finish = time.perf_counter()
+    info = [f[2] for f in finished]
+    result_stats = {
+        "tiles": T, "rounds": len(history), "scale_exponent": scale_exp,
+        "sent_per_round": [h["sent"] for h in history],
+        "tiles_per_round": [h["active"] for h in history],
+        "points_per_tile": [i["local"] for i in info],
+        "received_per_tile": [i["foreign"] for i in info],
+        "triangles_per_tile": [i["triangles"] for i in info],
+        "peak_rss": engine.peak_rss(),
+        "seconds": {"measure": t_measure - t0, "partition": t_partition - t_measure,
+                    "rounds": t_rounds - t_partition, "finish": t_finish - t_rounds,
+                    "total": t_finish - t0},
+        "workers": engine.workers,
+    }
+    if out is not None:
+        return {"paths": [f[0] for f in finished], "n": n, "stats": result_stats}
+    simplices = np.concatenate([f[0] for f in finished] + [np.empty((0, 3), np.int64)])
+    duplicate_of = np.arange(n, dtype=np.int64)
+    for dup, rep in (f[1] for f in finished):
+        duplicate_of[dup] = rep
+    if points is None or isinstance(points, (str, list, tuple)) or not isinstance(
+            points, np.ndarray):
+        points = np.concatenate([np.asarray(p) for p in engine.gather(
+            [engine.submit(sources.read, kind, what, key="read") for kind, what, _ in chunk_list])]
+            + [np.empty((0, 2))])
+    return assemble(points, simplices, duplicate_of, result_stats)
+
+
+def _box(local):
+    return local["box"]
+
+
+def _item(result, i):
+    return result[i]
+
+
+def assemble(points, simplices, duplicate_of, stats):
+    """A Triangulation from gathered triangles: neighbours by matching
+    each edge with its twin, and the hull loop from the unmatched ones."""
+    n = len(duplicate_of)
+    S = np.asarray(simplices, dtype=np.int64)
+    m = len(S)
+    a = S[:, [1, 2, 0]].ravel()  # edge opposite vertex k runs S[k+1] -> S[k+2]
+    b = S[:, [2, 0, 1]].ravel()
+    key = a * n + b
+    order = np.argsort(key, kind="stable")
+    sorted_keys = key[order]
+    pos = np.minimum(np.searchsorted(sorted_keys, b * n + a), max(len(key) - 1, 0))
+    found = sorted_keys[pos] == b * n + a if m else np.zeros(0, dtype=bool)
+    nb = np.full(3 * m, -1, dtype=np.int64)
+    nb[found] = order[pos[found]] // 3
+    hull = _hull(points, a[~found], b[~found]) if m else _extremes(points, duplicate_of)
+    reason = "" if m else "fewer than 3 distinct points or all points collinear"
+    return Triangulation(points=points, simplices=S, neighbors=nb.reshape(m, 3), hull=hull,
+                         duplicate_of=duplicate_of, stats=stats, degenerate=not m, reason=reason)
+
+
+def _extremes(points, duplicate_of):
+    """The hull of a set without triangles: its lexicographic extremes."""
+    distinct = np.flatnonzero(duplicate_of == np.arange(len(duplicate_of)))
+    if not len(distinct):
+        return np.empty(0, dtype=np.int64)
+    P = np.asarray(points, dtype=np.float64)[distinct]
+    order = np.lexsort((P[:, 1], P[:, 0]))
+    return distinct[np.unique(order[[0, -1]])] if len(distinct) > 1 else distinct
+
+
+def _hull(points, a, b):
+    """The counter-clockwise loop of boundary edges a -> b, from the one
+    with the smallest (x, y)."""
+    if not len(a):
+        return np.empty(0, dtype=np.int64)
+    nxt = dict(zip(a.tolist(), b.tolist()))
+    P = np.asarray(points)
+    start = int(a[np.lexsort((P[a, 1], P[a, 0]))[0]])
+    loop = [start]
+    while nxt[loop[-1]] != start and len(loop) <= len(a):
+        loop.append(nxt[loop[-1]])
+    return np.array(loop, dtype=np.int64)
+
+
+def verify(result, points, *, client=None, progress=None):
+    """Exactly check a distributed triangulation share by share
+    (lfqt.distributed.check), without loading the whole point set on one
+    process.
+
+    ``result``: what ``triangulate`` returned (a Triangulation, or the dict
+    with ``paths``), or a list of tile files.  ``points``: the same input as
+    given to ``triangulate``.  Returns a lfqt.VerifyReport.
+    """
+    chunk_list = sources.chunks(points)
+    engine = Dask(client, progress)
+    try:
+        if chunk_list and chunk_list[0][0] == "dask":
+            blocks = engine.client.compute([c[1] for c in chunk_list])
+            chunk_list = [("dask", b, c[2]) for b, c in zip(blocks, chunk_list)]
+        return verify_on(result, chunk_list, engine)
+    finally:
+        engine.close()
+
+
+def _shares(result, engine):
+    """The triangles as shares: (kind, what) per tile file or slice."""
+    if isinstance(result, dict):
+        result = result["paths"]
+    if isinstance(result, (list, tuple)):
+        return [("npy" if str(p).endswith(".npy") else "parquet", str(p)) for p in result]
+    S = np.asarray(result.simplices, dtype=np.int64)
+    per = (result.stats or {}).get("triangles_per_tile")
+    if per and sum(per) == len(S):
+        cuts = np.cumsum([0] + list(per))
+    else:
+        k = max(2 * engine.workers, -(-len(S) // (1 << 21)))
+        cuts = np.linspace(0, len(S), k + 1).astype(np.int64)
+    return [("array", S[lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
+
+
+def verify_on(result, chunk_list, engine):
+    """``verify`` on an engine (lfqt.distributed.engine)."""
+    from ..verification import VerifyReport
+    from . import check as ck
+    rows = [c[2] for c in chunk_list]
+    starts = np.concatenate(([0], np.cumsum(rows))).astype(np.int64)
+    n = int(starts[-1])
+    rate = min(1.0, SAMPLE_SIZE / max(n, 1))
+    stats = engine.gather([engine.submit(partition.chunk_stats, kind, what, int(s), rate, SEED)
+                           for (kind, what, _), s in zip(chunk_list, starts)], "measure")
+    scale_exp = window_exponent(max(s[1] for s in stats), min(s[2] for s in stats),
+                                MAX_EXP, MIN_ULP_EXP)
+    # 4: distinct points, counted tile by tile (equal points share a tile)
+    sample = np.concatenate([s[3] for s in stats] + [np.empty((0, 2))]) * 2.0 ** scale_exp
+    T = partition.auto_tiles(n, engine.workers)
+    nodes, _ = partition.kd_tree(sample, T)
+    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T)
+            for (kind, what, _), s in zip(chunk_list, starts)]
+    distinct = sum(engine.gather([engine.submit(ck.tile_distinct, engine.submit(
+        partition.gather_tile, *[engine.submit(partition.piece, c, t) for c in cuts]))
+        for t in range(T)], "distinct points"))
+    engine.release(cuts)
+
+    shares = _shares(result, engine)
+    reqs = [engine.submit(ck.requests, kind, what, starts) for kind, what in shares]
+    found = [engine.submit(ck.lookup, kind, what, int(s), scale_exp,
+                           *[engine.submit(ck.request_piece, r, c) for r in reqs])
+             for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
+    checked = [engine.submit(ck.check_share, r, *[engine.submit(ck.lookup_piece, f, s)
+                                                  for f in found])
+               for s, r in enumerate(reqs)]
+    counts = {}
+
+    def add(d):
+        for k, v in d.items():
+            counts[k] = counts.get(k, 0) + int(v)
+
+    for c in engine.gather([engine.submit(_item, x, 0) for x in checked], "check shares"):
+        add(c)
+    used = engine.gather([engine.submit(_item, f, 1) for f in found])
+    border_counts, H = engine.gather([engine.submit(ck.check_border, *[
+        engine.submit(_item, x, 1) for x in checked])])[0]
+    add(border_counts)
+    if counts["triangles"]:
+        add({"points_outside_hull": sum(engine.gather([
+            engine.submit(ck.outside_hull, kind, what, scale_exp, H)
+            for kind, what, _ in chunk_list], "hull"))})
+        add({"vertices_not_distinct_points": int(sum(used) != distinct)})
+    elif distinct >= 3:
+        ends = np.concatenate(engine.gather([engine.submit(ck.collinear_extremes, kind, what,
+                                                           scale_exp)
+                                             for kind, what, _ in chunk_list]))
+        order = np.lexsort((ends[:, 1], ends[:, 0]))
+        a, b = ends[order[0]], ends[order[-1]]
+        add({"no_triangles_but_not_collinear": int(sum(engine.gather([
+            engine.submit(ck.off_line, kind, what, scale_exp, a, b)
+            for kind, what, _ in chunk_list])) > 0)})
+    problems = [f"{k.replace('_', ' ')}: {v}" for k, v in counts.items()
+                if k != "triangles" and v]
+    checks = {k: not v for k, v in counts.items() if k != "triangles"}
+    counts["distinct_points"] = distinct
+    counts["vertices"] = int(sum(used))
+    return VerifyReport(not problems, checks, problems, counts)
+
+
+__all__ = ["triangulate", "verify", "triangulate_on", "verify_on", "Serial", "assemble"]

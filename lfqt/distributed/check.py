@@ -1,0 +1,251 @@
+"""An exact check of a distributed triangulation, share by share (a share is
+one tile's file, or a slice of gathered triangles), that never loads the
+whole point set on one process.  A mesh is the Delaunay triangulation of P
+when:
+
+1. every triangle is counter-clockwise (exact orientation > 0);
+2. every directed edge occurs once, and each edge with a twin is locally
+   Delaunay (exact in-circle of the opposite vertex <= 0);
+3. the edges without a twin form one cycle that turns once around its
+   first vertex, convex, with no point of P strictly outside it;
+4. the triangles use as many vertices as P has distinct points.
+
+(1)-(3) make the triangles cover the hull exactly once (their signed areas
+add up to the cycle's); with locally Delaunay edges the cover is the
+Delaunay triangulation of its vertices (Delaunay's lemma), and (4) makes
+those all of P.  Edges inside a share are paired there; the others, a
+share's border, are paired in one task.
+"""
+import numpy as np
+from numba import njit
+
+from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
+from .sources import read
+
+
+def share_triangles(kind, what):
+    """A share's (m, 3) global ids."""
+    if kind == "npy":
+        return np.load(what).astype(np.int64).reshape(-1, 3)
+    if kind == "parquet":
+        import pyarrow.parquet as pq
+        t = pq.read_table(what)
+        return np.column_stack([t.column(c).to_numpy() for c in ("a", "b", "c")]).astype(np.int64)
+    return np.asarray(what, dtype=np.int64).reshape(-1, 3)
+
+
+def requests(kind, what, starts):
+    """(triangles, sorted vertex ids, the ids falling in each chunk, how
+    many triangles name a vertex that is no point; those are left out)."""
+    S = share_triangles(kind, what)
+    inside = ((S >= 0) & (S < starts[-1])).all(axis=1)
+    S = S[inside]
+    ids = np.unique(S)
+    cut = np.searchsorted(ids, starts)
+    return S, ids, [ids[cut[c]:cut[c + 1]] for c in range(len(starts) - 1)], int((~inside).sum())
+
+
+def request_piece(req, c):
+    return req[2][c]
+
+
+def lookup(kind, what, start, scale_exp, *wanted):
+    """Coordinates (scaled) of each share's wanted ids in this chunk, and how
+    many distinct ids of the chunk are used at all."""
+    P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
+    out = [P[w - start] for w in wanted]
+    return out, len(np.unique(np.concatenate(list(wanted) + [np.empty(0, np.int64)])))
+
+
+def lookup_piece(found, s):
+    return found[0][s]
+
+
+def check_share(req, *coords):
+    """Checks 1 and 2 inside one share: (counts, border edges (u, v, w) and
+    their coordinates)."""
+    S, ids, _, unknown = req
+    P = np.concatenate(list(coords) + [np.empty((0, 2))])
+    L = np.searchsorted(ids, S)
+    bad_orient = _bad_orientation(P, L)
+    a, b, w = _edges(L)
+    pairs, repeated, lone = _pair(a, b, len(ids))
+    bad_local = _not_locally_delaunay(P, a, b, w, pairs)
+    border = (ids[a[lone]], ids[b[lone]], ids[w[lone]], P[a[lone]], P[b[lone]], P[w[lone]])
+    return dict(triangles=len(S), vertex_not_a_point=unknown, not_counter_clockwise=bad_orient,
+                repeated_edges=repeated, not_locally_delaunay=bad_local), border
+
+
+def _edges(L):
+    """Directed edges a -> b of every triangle (the edge opposite vertex k),
+    with the opposite vertex w."""
+    a = L[:, [1, 2, 0]].ravel()
+    b = L[:, [2, 0, 1]].ravel()
+    w = L.ravel()
+    return a, b, w
+
+
+def _pair(a, b, n):
+    """(twin pairs (i, j), count of directed edges seen twice, indices of
+    the edges without a twin); a and b index n vertices."""
+    n = max(int(n), 1)
+    k = a.astype(np.int64) * n + b
+    t = b.astype(np.int64) * n + a
+    order = np.argsort(k, kind="stable")
+    sk = k[order]
+    repeated = int(np.count_nonzero(sk[1:] == sk[:-1]))
+    pos = np.minimum(np.searchsorted(sk, t), max(len(sk) - 1, 0))
+    has = sk[pos] == t if len(sk) else np.zeros(0, dtype=bool)
+    i = np.flatnonzero(has)
+    j = order[pos[has]]
+    once = i < j
+    return np.column_stack((i[once], j[once])), repeated, np.flatnonzero(~has)
+
+
+@njit(cache=True)
+def _bad_orientation(P, L):
+    bad = 0
+    for t in range(L.shape[0]):
+        a, b, c = L[t, 0], L[t, 1], L[t, 2]
+        v, _ = orient2d_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1], CCW_A)
+        if not v > 0.0:
+            bad += 1
+    return bad
+
+
+@njit(cache=True)
+def _not_locally_delaunay(P, a, b, w, pairs):
+    """Edges whose twin's opposite vertex is strictly inside the circle of
+    the triangle (a, b, w)."""
+    bad = 0
+    for k in range(pairs.shape[0]):
+        i, j = pairs[k, 0], pairs[k, 1]
+        x, y, z, d = b[i], w[i], a[i], w[j]  # triangle (a, b, w) counter-clockwise: b, w, a
+        v, _ = incircle_staged(P[x, 0], P[x, 1], P[y, 0], P[y, 1], P[z, 0], P[z, 1],
+                               P[d, 0], P[d, 1], ICC_A)
+        if v > 0.0:
+            bad += 1
+    return bad
+
+
+def check_border(*borders):
+    """Check 2 across shares and the cycle of check 3: (counts, the hull
+    loop's coordinates in order)."""
+    u = np.concatenate([b[0] for b in borders] + [np.empty(0, np.int64)])
+    v = np.concatenate([b[1] for b in borders] + [np.empty(0, np.int64)])
+    w = np.concatenate([b[2] for b in borders] + [np.empty(0, np.int64)])
+    Pu, Pv, Pw = (np.concatenate([b[k] for b in borders] + [np.empty((0, 2))]) for k in (3, 4, 5))
+    ids, inv = np.unique(np.concatenate((u, v, w)), return_inverse=True)
+    m = len(u)
+    a, b, c = inv[:m], inv[m:2 * m], inv[2 * m:]
+    P = np.empty((len(ids), 2))
+    P[a], P[b], P[c] = Pu, Pv, Pw
+    pairs, repeated, lone = _pair(a, b, len(ids))
+    bad_local = _not_locally_delaunay(P, a, b, c, pairs)
+    counts = dict(repeated_edges=repeated, not_locally_delaunay=bad_local)
+    loop, problem = _cycle(a[lone], b[lone])
+    if problem:
+        counts["hull_not_one_cycle"] = 1
+        return counts, np.empty((0, 2))
+    H = P[loop]
+    counts["hull_not_convex"] = int(_not_convex(H))
+    return counts, H
+
+
+def _cycle(a, b):
+    """The loop of the directed edges a -> b, or a problem when they are not
+    one cycle through distinct vertices."""
+    if not len(a):
+        return np.empty(0, dtype=np.int64), False
+    if len(np.unique(a)) != len(a) or len(np.unique(b)) != len(b):
+        return None, True
+    nxt = dict(zip(a.tolist(), b.tolist()))
+    loop = [int(a[0])]
+    while len(loop) <= len(a):
+        nx = nxt.get(loop[-1])
+        if nx is None:
+            return None, True
+        if nx == loop[0]:
+            break
+        loop.append(nx)
+    return np.array(loop, dtype=np.int64), len(loop) != len(a)
+
+
+@njit(cache=True)
+def _orient(p, q, r):
+    v, _ = orient2d_staged(p[0], p[1], q[0], q[1], r[0], r[1], CCW_A)
+    return v
+
+
+@njit(cache=True)
+def _not_convex(H):
+    """Turns of the cycle that go right, or a fan from H[0] that goes back
+    (a cycle winding more than once)."""
+    h = H.shape[0]
+    bad = 0
+    for k in range(h):
+        if _orient(H[k - 1], H[k], H[(k + 1) % h]) < 0.0:
+            bad += 1
+    for k in range(1, h - 1):
+        if _orient(H[0], H[k], H[k + 1]) < 0.0:
+            bad += 1
+    return bad
+
+
+@njit(cache=True)
+def _outside(P, H):
+    """Points strictly outside the convex counter-clockwise polygon H, by a
+    binary search of the fan from H[0] (exact orientations)."""
+    h = H.shape[0]
+    bad = 0
+    for i in range(P.shape[0]):
+        p = P[i]
+        if _orient(H[0], H[1], p) < 0.0 or _orient(H[h - 1], H[0], p) < 0.0:
+            bad += 1
+            continue
+        lo, hi = 1, h - 1  # p lies in the cone between rays H0->H[lo] and H0->H[hi]
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if _orient(H[0], H[mid], p) >= 0.0:
+                lo = mid
+            else:
+                hi = mid
+        if _orient(H[lo], H[hi], p) < 0.0:
+            bad += 1
+    return bad
+
+
+def outside_hull(kind, what, scale_exp, H):
+    """Check 3 on one chunk: its points strictly outside the hull loop H."""
+    if len(H) < 3:
+        return 0
+    P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
+    return int(_outside(P, H))
+
+
+def collinear_extremes(kind, what, scale_exp):
+    """A chunk's lexicographically smallest and largest points."""
+    P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
+    if not len(P):
+        return np.empty((0, 2))
+    order = np.lexsort((P[:, 1], P[:, 0]))
+    return P[order[[0, -1]]]
+
+
+@njit(cache=True)
+def _off_line(P, a, b):
+    bad = 0
+    for i in range(P.shape[0]):
+        if _orient(a, b, P[i]) != 0.0:
+            bad += 1
+    return bad
+
+
+def off_line(kind, what, scale_exp, a, b):
+    """Points of the chunk off the line a-b."""
+    P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
+    return int(_off_line(P, a, b))
+
+
+def tile_distinct(local):
+    return len(local["ids"])

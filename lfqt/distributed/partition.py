@@ -1,0 +1,123 @@
+"""Tiles: a k-d split of the plane chosen on a sample of the points (median
+cuts along the longer side, so unbalanced data still gives balanced tiles),
+and the tasks that measure the chunks and cut them into tiles.
+
+    chunk_stats   one pass over a chunk: rows, magnitudes, a seeded sample
+    kd_tree       the splits, from the pooled sample
+    cut_chunk     a chunk's points scaled and grouped by tile
+    gather_tile   a tile's pieces, sorted by global id, duplicates removed
+
+Cells are half-open: a point on a cut belongs to the upper side.  Points
+that compare equal (0.0 and -0.0 included) always fall in the same tile.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .sources import read
+
+
+def chunk_stats(kind, what, start, rate, seed):
+    """(rows, largest |coordinate|, smallest nonzero |coordinate|, sample)
+    of one chunk; the sample keeps each row with probability ``rate``."""
+    pts = read(kind, what).astype(np.float64, copy=False)
+    mags = np.abs(pts[pts != 0])
+    rng = np.random.default_rng([seed, start])
+    keep = rng.random(len(pts)) < rate
+    return (len(pts), float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)),
+            pts[keep].copy())
+
+
+def kd_tree(sample, tiles):
+    """(nodes, cells): nodes rows (axis, cut, left, right) with left < 0
+    meaning leaf tile -left-1; cells (tiles, 4) open boxes x0, y0, x1, y1."""
+    nodes, cells = [], np.empty((tiles, 4))
+    inf = np.inf
+
+    def split(pts, k, first, box):
+        me = len(nodes)
+        nodes.append([0, 0.0, -first - 1, -first - 1])
+        if k == 1 or len(pts) < 2:
+            for t in range(first, first + k):  # extra tiles of a tiny sample stay empty
+                cells[t] = box if t == first else (inf, inf, -inf, -inf)
+            return me
+        kl = k // 2
+        ext = pts.max(0) - pts.min(0)
+        for axis in np.argsort(-ext, kind="stable"):
+            vals = np.sort(pts[:, axis])
+            cut = vals[min(len(vals) - 1, len(vals) * kl // k)]
+            if cut > vals[0]:
+                break
+        else:
+            cells[first] = box
+            for t in range(first + 1, first + k):
+                cells[t] = (inf, inf, -inf, -inf)
+            return me
+        low = pts[:, axis] < cut
+        lbox, hbox = list(box), list(box)
+        lbox[2 + axis], hbox[axis] = cut, cut
+        left = split(pts[low], kl, first, lbox)
+        right = split(pts[~low], k - kl, first + kl, hbox)
+        nodes[me] = [axis, cut, left, right]
+        return me
+
+    split(np.asarray(sample, dtype=np.float64).reshape(-1, 2), tiles, 0, [-inf, -inf, inf, inf])
+    return np.array(nodes, dtype=np.float64).reshape(-1, 4), cells
+
+
+@njit(cache=True)
+def assign(P, nodes):
+    """Tile of every point: walk the k-d nodes from the root."""
+    out = np.empty(P.shape[0], dtype=np.int64)
+    for i in range(P.shape[0]):
+        k = 0
+        while True:
+            axis, cut, left, right = nodes[k, 0], nodes[k, 1], nodes[k, 2], nodes[k, 3]
+            if left < 0 and left == right:
+                out[i] = -int(left) - 1
+                break
+            k = int(right) if P[i, int(axis)] >= cut else int(left)
+    return out
+
+
+def cut_chunk(kind, what, start, scale_exp, nodes, tiles):
+    """(starts, ids, P): the chunk's points scaled by 2**scale_exp (exact)
+    with their global ids, grouped by tile; tile t is rows
+    starts[t]:starts[t+1]."""
+    P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
+    P += 0.0  # -0.0 -> 0.0: equal points get equal coordinates
+    tile = assign(P, nodes)
+    order = np.argsort(tile, kind="stable")
+    starts = np.searchsorted(tile[order], np.arange(tiles + 1))
+    return starts, start + order.astype(np.int64), P[order]
+
+
+def piece(cut, t):
+    """Tile t's rows of a cut chunk: (ids, P)."""
+    starts, ids, P = cut
+    return ids[starts[t]:starts[t + 1]], P[starts[t]:starts[t + 1]]
+
+
+def gather_tile(*pieces):
+    """A tile's local points: dict(ids, P) sorted by global id with exact
+    duplicates removed (the smallest id kept; ``dup``/``rep`` pair each
+    removed id with the id that represents it), and its box."""
+    ids = np.concatenate([p[0] for p in pieces]) if pieces else np.empty(0, np.int64)
+    P = np.concatenate([p[1] for p in pieces]) if pieces else np.empty((0, 2))
+    order = np.lexsort((ids, P[:, 1], P[:, 0]))
+    ids, P = ids[order], P[order]
+    same = np.zeros(len(ids), dtype=bool)
+    same[1:] = (P[1:] == P[:-1]).all(axis=1)
+    first = np.flatnonzero(~same)
+    rep = ids[first[np.cumsum(~same) - 1]]
+    keep = ~same
+    by_id = np.argsort(ids[keep], kind="stable")
+    box = (np.array([P[:, 0].min(), P[:, 1].min(), P[:, 0].max(), P[:, 1].max()])
+           if len(P) else np.full(4, np.nan))
+    return dict(ids=ids[keep][by_id], P=P[keep][by_id], dup=ids[same], rep=rep[same], box=box)
+
+
+def auto_tiles(n, workers, points_per_tile=1 << 20):
+    """Tiles by default: about a million points each, at least two per worker."""
+    return max(2 * workers, math.ceil(n / points_per_tile), 1)

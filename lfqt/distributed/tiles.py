@@ -1,0 +1,188 @@
+"""The work of one tile in Tile & Merge (Caraffa, Memari, Yirci and Brédif
+2019; proof of consistency: Brédif et al., ISPRS Annals 2020): triangulate
+the tile's own points with those it has received, and send to every other
+tile j the vertices of each face whose closed circumdisk meets j's box.
+
+A tile's state is what it holds beyond its own points: the foreign points
+(global id, coordinates, home tile) and, per tile, the ids already sent
+there.  Both only grow, so the rounds end.
+
+Why the stars are right when no tile sends anything new (v local to tile i,
+F a face of i's Delaunay subdivision around v, p a point of tile j in F's
+closed disk but unknown to i): F's disk meets j's box, so j holds F's
+vertices and p.  F is then no face of j's subdivision, so some face F'
+around v there has a vertex q in F's closed disk (the star of v depends
+only on v's neighbours).  F' has v on its circle, so its disk meets i's box
+and j sent q to i: q would make F no face of i's subdivision either.  The
+rule is applied to faces with a vertex of the sender or of the receiver,
+which is all the argument uses; the hull's infinite faces count, as
+closed outer half-planes.
+"""
+import numpy as np
+
+from ..dc import triangulate
+from . import geometry
+from .engine import _peak_rss
+
+EMPTY_IDS = np.empty(0, dtype=np.int64)
+
+
+def new_state(tiles):
+    return dict(ids=EMPTY_IDS, P=np.empty((0, 2)), home=EMPTY_IDS,
+                sent=[EMPTY_IDS] * tiles, rounds=0)
+
+
+def _mesh(local, state):
+    """The triangulation of the tile's points and its foreign points:
+    (P, gid, home, Triangulation), vertices local first."""
+    P = np.concatenate((local["P"], state["P"]))
+    gid = np.concatenate((local["ids"], state["ids"]))
+    home = np.concatenate((np.full(len(local["ids"]), -1, dtype=np.int64), state["home"]))
+    return P, gid, home, triangulate(P, threads=1, counters=False)
+
+
+def _receive(state, inbox, me):
+    """state with the inbox's new foreign points added."""
+    if not inbox:
+        return state
+    ids = np.concatenate([m[0] for m in inbox] + [state["ids"]])
+    P = np.concatenate([m[1] for m in inbox] + [state["P"]])
+    home = np.concatenate([m[2] for m in inbox] + [state["home"]])
+    ids, first = np.unique(ids, return_index=True)
+    return dict(state, ids=ids, P=P[first], home=home[first])
+
+
+def _face_groups(tri, P):
+    """(face of each triangle, triangle order grouped by face, group starts)."""
+    face = geometry.faces(P, tri.simplices.astype(np.int64), tri.neighbors.astype(np.int64))
+    order = np.argsort(face, kind="stable")
+    starts = np.flatnonzero(np.r_[True, face[order][1:] != face[order][:-1], True])
+    return face, order, starts
+
+
+def _outgoing(P, home, tri, groups, cell, boxes, me):
+    """(vertex, tile) pairs to send, before removing what was sent already."""
+    tiles = len(boxes)
+    if tri.degenerate:  # collinear or tiny: all of it is one face reaching everywhere
+        others = [j for j in range(tiles) if j != me and not np.isnan(boxes[j, 0])]
+        v = np.repeat(np.arange(len(P)), len(others))
+        return v, np.tile(np.array(others, dtype=np.int64), len(P))
+    S = tri.simplices.astype(np.int64)
+    face, order, starts = groups
+    roots = face[order[starts[:-1]]]
+    f, j = geometry.reach(P, S, roots, cell, boxes, me)
+    # every vertex of every face that reaches j: triangles of the face x 3
+    size = np.diff(starts)[f]
+    tri_idx = order[np.repeat(starts[:-1][f], size) + _ramp(size)]
+    v = S[tri_idx].ravel()
+    j = np.repeat(np.repeat(j, size), 3)
+    hv, hj, hface = _hull_pairs(P, np.asarray(tri.hull, dtype=np.int64), boxes, me)
+    v, j = np.concatenate((v, hv)), np.concatenate((j, hj))
+    # keep the faces with a vertex of the sender or of the receiver
+    owner = np.where(home[v] < 0, me, home[v])
+    face_id = np.concatenate((np.repeat(np.repeat(np.arange(len(f)), size), 3), len(f) + hface))
+    pair = face_id * len(boxes) + j
+    ok = (owner == me) | (owner == j)
+    good_pairs = np.unique(pair[ok])
+    keep = np.isin(pair, good_pairs)
+    return v[keep], j[keep]
+
+
+def _ramp(size):
+    """0..size[0]-1, 0..size[1]-1, ... concatenated."""
+    if not len(size):
+        return np.empty(0, dtype=np.int64)
+    ends = np.cumsum(size)
+    return np.arange(ends[-1]) - np.repeat(ends - size, size)
+
+
+def _hull_pairs(P, hull, boxes, me):
+    """(vertex, tile, run) for each run of collinear hull edges (an infinite
+    face) and each tile its closed outer half-plane meets."""
+    run = geometry.hull_runs(P, hull)
+    vs, js, rs = [], [], []
+    for r in np.unique(run):
+        edges = np.flatnonzero(run == r)
+        verts = np.unique(np.concatenate((hull[edges], hull[(edges + 1) % len(hull)])))
+        for j in geometry.beyond(P, hull[r], hull[(r + 1) % len(hull)], boxes, me):
+            vs.append(verts)
+            js.append(np.full(len(verts), j))
+            rs.append(np.full(len(verts), r))
+    if not vs:
+        return EMPTY_IDS, EMPTY_IDS, EMPTY_IDS
+    return np.concatenate(vs), np.concatenate(js), np.concatenate(rs)
+
+
+def step(me, local, state, inbox, cell, boxes):
+    """One round of tile ``me``: (new state, outbox {tile: (ids, P, home)},
+    summary)."""
+    state = _receive(state, inbox, me)
+    P, gid, home, tri = _mesh(local, state)
+    groups = None if tri.degenerate else _face_groups(tri, P)
+    v, j = _outgoing(P, home, tri, groups, cell, boxes, me)
+    n_local = len(local["ids"])
+    send_home = np.where(home < 0, me, home)
+    ok = send_home[v] != j  # a tile knows its own points
+    v, j = v[ok], j[ok]
+    sent = list(state["sent"])
+    outbox = {}
+    for t in np.unique(j):
+        ids = np.unique(gid[v[j == t]])
+        new = ids[~np.isin(ids, sent[t], assume_unique=True)]
+        if len(new):
+            sent[t] = np.union1d(sent[t], new)
+            rows = _rows(gid, n_local, new)
+            outbox[int(t)] = (new, P[rows], send_home[rows])
+    state = dict(state, sent=sent, rounds=state["rounds"] + 1)
+    summary = dict(tile=me, points=len(P), foreign=len(state["ids"]),
+                   triangles=len(tri.simplices), sent={t: len(m[0]) for t, m in outbox.items()},
+                   peak_rss=_peak_rss())
+    return state, outbox, summary
+
+
+def _rows(gid, n_local, ids):
+    """Rows of ``ids`` in the tile's vertex list (local ids sorted, then the
+    foreign ids sorted)."""
+    local = gid[:n_local]
+    foreign = gid[n_local:]
+    pos = np.searchsorted(local, ids)
+    pos_ok = pos < n_local
+    is_local = np.zeros(len(ids), dtype=bool)
+    is_local[pos_ok] = local[pos[pos_ok]] == ids[pos_ok]
+    rows = np.where(is_local, pos, n_local + np.searchsorted(foreign, ids))
+    return rows
+
+
+def collect(me, *outboxes):
+    """Tile ``me``'s inbox: its messages from every outbox that has one."""
+    return [o[me] for o in outboxes if me in o]
+
+
+def finish(me, local, state, out=None, fmt="npy"):
+    """The tile's share of the result: every triangle whose smallest global
+    id is one of the tile's points, cocircular faces cut canonically.
+    Returns the (m, 3) global ids, or with ``out`` the path written."""
+    P, gid, home, tri = _mesh(local, state)
+    if tri.degenerate:
+        S = np.empty((0, 3), dtype=np.int64)
+    else:
+        face, order, starts = _face_groups(tri, P)
+        S = geometry.canonical(tri.simplices.astype(np.int64), tri.neighbors.astype(np.int64),
+                               face, order, starts, gid)
+    G = gid[S]
+    owned = home[S[np.arange(len(S)), np.argmin(G, axis=1)]] < 0 if len(S) else np.zeros(0, bool)
+    G = G[owned]
+    info = dict(tile=me, triangles=len(G), points=len(P), foreign=len(state["ids"]),
+                local=len(local["ids"]), rounds=state["rounds"], peak_rss=_peak_rss(),
+                duplicates=len(local["dup"]))
+    if out is None:
+        return G, (local["dup"], local["rep"]), info
+    from pathlib import Path
+    path = Path(out) / f"tile-{me:05d}.{fmt}"
+    if fmt == "npy":
+        np.save(path, G)
+    else:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+        pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
+    return str(path), (local["dup"], local["rep"]), info

@@ -1,0 +1,277 @@
+"""lfqt.distributed: Tile & Merge, first on this process (the algorithm,
+property-based), then on a real 2-worker dask LocalCluster (inputs, outputs,
+the worker-loss retry).  Every mesh is checked twice: by lfqt.verify on the
+gathered result and by the distributed lfqt.distributed.verify."""
+import copy
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+import lfqt
+from lfqt import distributed as D
+from lfqt.distributed import check as dcheck, partition, sources
+
+from conftest import triangle_set
+
+dask_distributed = pytest.importorskip("dask.distributed")
+
+
+def serial(points, tiles, chunk_rows=97):
+    """Tile & Merge on this process, both checks applied."""
+    chunks = sources.chunks(points, chunk_rows)
+    tri = D.triangulate_on(chunks, D.Serial(), tiles=tiles, points=points)
+    report = lfqt.verify(points, tri)
+    assert report.ok, report.problems
+    dist = D.verify_on(tri, chunks, D.Serial())
+    assert dist.ok, dist.problems
+    return tri
+
+
+def _grid(nx, ny):
+    return np.stack(np.meshgrid(np.arange(float(nx)), np.arange(float(ny))), -1).reshape(-1, 2)
+
+
+def _cocircular(r=5525):
+    """Every integer point on the circle of radius r (exactly cocircular)."""
+    pts = [(x, s * y) for x in range(-r, r + 1) for s in (1, -1)
+           for y in [int(round((r * r - x * x) ** 0.5))] if y * y == r * r - x * x]
+    return np.unique(np.array(pts, dtype=np.float64), axis=0)
+
+
+# --- the algorithm, on this process ---------------------------------------------------------
+
+@pytest.mark.parametrize("n,tiles", [(500, 2), (3000, 5), (20000, 9)])
+def test_random_sets_equal_the_single_machine_triangulation(rng, n, tiles):
+    pts = rng.random((n, 2))
+    tri = serial(pts, tiles)
+    assert triangle_set(tri.simplices) == triangle_set(lfqt.triangulate(pts).simplices)
+    assert tri.stats["rounds"] >= 2 and tri.stats["sent_per_round"][-1] == 0
+
+
+@given(st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=1, max_size=90),
+       st.integers(1, 7))
+def test_small_integer_sets_any_tiles(coords, tiles):
+    # many cocircular and collinear subsets and duplicates
+    serial(np.array(coords, dtype=np.float64), tiles, chunk_rows=13)
+
+
+# magnitudes within the predicates' window (wider spans are a clear error, tested below)
+_coordinate = st.floats(-1e3, 1e3).map(lambda v: 0.0 if abs(v) < 1e-100 else v)
+
+
+@given(st.lists(st.tuples(_coordinate, _coordinate), min_size=3, max_size=150, unique=True),
+       st.integers(2, 6))
+def test_float_sets_equal_the_single_machine_triangulation(coords, tiles):
+    pts = np.array(coords, dtype=np.float64)
+    tri = serial(pts, tiles, chunk_rows=31)
+    ref = lfqt.triangulate(pts)
+    if not ref.degenerate and _general_position(pts, ref):
+        assert triangle_set(tri.simplices) == triangle_set(ref.simplices)
+
+
+def _general_position(pts, ref):
+    """No edge of ref with its four points cocircular (then the DT is unique)."""
+    from lfqt.distributed import geometry
+    P = pts * 2.0 ** ref.stats["scale_exponent"]
+    face = geometry.faces(P, ref.simplices.astype(np.int64), ref.neighbors.astype(np.int64))
+    return len(np.unique(face)) == len(face)
+
+
+@pytest.mark.parametrize("name,points,tiles", [
+    ("grid", _grid(40, 30), 8),
+    ("grid shuffled", np.random.default_rng(0).permutation(_grid(31, 17)), 5),
+    ("cocircular", _cocircular(), 4),
+    ("cocircular and centre", np.r_[_cocircular(), [[0.0, 0.0]]], 3),
+    ("collinear", np.c_[np.arange(100.0), 2 * np.arange(100.0)], 4),
+    ("two lines", np.r_[np.c_[np.arange(50.0), np.zeros(50)], np.c_[np.arange(50.0), np.ones(50)]],
+     6),
+    ("three points", np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), 4),
+    ("one point", np.array([[2.0, 3.0]]), 2),
+])
+def test_degenerate_sets_are_valid(name, points, tiles):
+    serial(points, tiles, chunk_rows=41)
+
+
+def test_duplicates_and_negative_zero(rng):
+    pts = rng.random((400, 2))
+    pts = np.r_[pts, pts[:60], pts[:7]]
+    z = rng.integers(-3, 4, (300, 2)).astype(np.float64)
+    z[z == 0] = -0.0
+    for p in (pts, np.r_[z, np.abs(z)]):
+        tri = serial(p, 4)
+        assert (tri.duplicate_of != np.arange(len(p))).sum() == len(p) - len(np.unique(p + 0.0,
+                                                                                        axis=0))
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-310, 1e300])
+def test_extreme_magnitudes(rng, scale):
+    pts = rng.random((2000, 2)) * scale
+    tri = serial(pts, 4)
+    assert triangle_set(tri.simplices) == triangle_set(lfqt.triangulate(pts).simplices)
+
+
+def test_bad_input_is_a_clear_error():
+    with pytest.raises(ValueError, match="NaN"):
+        serial(np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 0.0]]), 2)
+    with pytest.raises(ValueError, match="shape"):
+        sources.chunks(np.zeros((5, 3)))
+    with pytest.raises(FileNotFoundError):
+        sources.chunks("/nonexistent/*.npy")
+    with pytest.raises(ValueError, match="binades"):
+        serial(np.array([[1e-300, 0.0], [1e300, 1.0], [0.0, 1.0]]), 2)
+
+
+def test_kd_tiles_are_balanced_on_clustered_data(rng):
+    pts = np.r_[rng.normal(0, 1e-3, (9000, 2)), rng.random((1000, 2))]
+    nodes, cells = partition.kd_tree(pts, 8)
+    counts = np.bincount(partition.assign(pts, nodes), minlength=8)
+    assert counts.min() > 0.6 * counts.mean()
+    inside = [(cells[t, 0] <= pts[:, 0]) & (pts[:, 0] < cells[t, 2]) & (cells[t, 1] <= pts[:, 1])
+              & (pts[:, 1] < cells[t, 3]) for t in range(8)]
+    assert (np.sum(inside, axis=0) == 1).all()  # the cells partition the plane
+
+
+# --- the distributed check catches broken meshes ---------------------------------------------
+
+def _broken(tri, simplices):
+    out = copy.copy(tri)
+    out.simplices, out.stats = simplices, {}
+    return out
+
+
+def test_verify_rejects_broken_meshes(rng):
+    pts = rng.random((1500, 2))
+    chunks = sources.chunks(pts, 200)
+    tri = serial(pts, 3)
+    S = tri.simplices
+
+    def problems(simplices, chunk_list=chunks):
+        report = D.verify_on(_broken(tri, simplices), chunk_list, D.Serial())
+        assert not report.ok
+        return " ".join(report.problems)
+
+    assert "cycle" in problems(S[1:])                              # a hole
+    assert "counter clockwise" in problems(np.r_[S[:1, ::-1], S[1:]])  # a flipped triangle
+    assert "repeated" in problems(np.r_[S, S[:1]]) or "cycle" in problems(np.r_[S, S[:1]])
+    assert "locally delaunay" in problems(_flip_one_edge(pts, tri))
+    assert "a point" in problems(np.r_[S, [[0, 1, len(pts) + 5]]])
+    extra = np.r_[pts, [[0.5, 0.5 + 1e-9]]]
+    assert "distinct" in problems(S, sources.chunks(extra, 200))   # an unused point
+    far = np.r_[pts, [[5.0, 5.0]]]
+    assert "outside" in problems(S, sources.chunks(far, 200))      # a point beyond the hull
+
+
+def _flip_one_edge(pts, tri):
+    """The triangles with one interior edge flipped (a valid triangulation
+    that is not Delaunay)."""
+    S, N = tri.simplices.copy(), tri.neighbors
+    for t in range(len(S)):
+        for k in range(3):
+            s = N[t, k]
+            if s < 0:
+                continue
+            a, b, c = S[t, k], S[t, (k + 1) % 3], S[t, (k + 2) % 3]
+            d = next(v for v in S[s] if v not in (b, c))
+
+            def ccw(p, q, r):
+                (ux, uy), (vx, vy) = pts[q] - pts[p], pts[r] - pts[p]
+                return ux * vy - uy * vx > 1e-9
+
+            if ccw(a, b, d) and ccw(a, d, c):  # the quad a b d c is convex
+                S[t], S[s] = (a, b, d), (a, d, c)
+                return S
+    raise AssertionError("no flippable edge")
+
+
+# --- on a real Dask cluster -------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = dask_distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                            dashboard_address=None)
+    with dask_distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+@pytest.fixture(scope="module")
+def cloud():
+    return np.random.default_rng(7).random((150_000, 2))
+
+
+@pytest.fixture(scope="module")
+def reference(cloud):
+    return triangle_set(lfqt.triangulate(cloud).simplices)
+
+
+def _gathered_ok(points, tri, client, reference=None):
+    assert lfqt.verify(points, tri).ok
+    report = D.verify(tri, points, client=client, progress=False)
+    assert report.ok, report.problems
+    if reference is not None:
+        assert triangle_set(tri.simplices) == reference
+
+
+def test_dask_array_input(client, cloud, reference):
+    tri = D.triangulate(cloud, client=client, tiles=6, progress=False)
+    _gathered_ok(cloud, tri, client, reference)
+    assert set(tri.stats["peak_rss"]) == set(client.scheduler_info()["workers"])
+
+
+def test_dask_npy_and_parquet_chunks(client, cloud, reference, tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    for i, part in enumerate(np.array_split(cloud, 5)):
+        np.save(tmp_path / f"part-{i}.npy", part)
+        pq.write_table(pa.table({"x": part[:, 0], "y": part[:, 1]}), tmp_path / f"part-{i}.parquet")
+    for pattern in ("part-*.npy", "part-*.parquet"):
+        tri = D.triangulate(str(tmp_path / pattern), client=client, tiles=4, progress=False)
+        _gathered_ok(cloud, tri, client, reference)
+
+
+def test_dask_collection_input(client, cloud, reference):
+    import dask.array as da
+    tri = D.triangulate(da.from_array(cloud, chunks=(40_000, 2)), client=client, progress=False)
+    assert triangle_set(tri.simplices) == reference
+
+
+@pytest.mark.parametrize("fmt", ["npy", "parquet"])
+def test_dask_out_writes_each_tile(client, cloud, reference, tmp_path, fmt):
+    got = D.triangulate(cloud, client=client, tiles=4, out=tmp_path, format=fmt, progress=False)
+    assert len(got["paths"]) == 4 and all(os.path.exists(p) for p in got["paths"])
+    shares = [dcheck.share_triangles(fmt, p) for p in got["paths"]]
+    assert triangle_set(np.concatenate(shares)) == reference
+    report = D.verify(got, cloud, client=client, progress=False)
+    assert report.ok, report.problems
+
+
+def test_dask_grid_and_cocircular_are_valid(client):
+    for pts in (_grid(300, 200), _cocircular()):
+        _gathered_ok(pts, D.triangulate(pts, client=client, tiles=5, progress=False), client)
+
+
+def test_dask_worker_loss_is_retried(client, cloud, reference):
+    done = {}
+    worker = threading.Thread(target=lambda: done.update(
+        tri=D.triangulate(cloud, client=client, tiles=8, progress=False)))
+    before = set(client.scheduler_info()["workers"])
+    worker.start()
+    deadline = time.time() + 120
+    while not client.run_on_scheduler(_round_two_started) and time.time() < deadline:
+        time.sleep(0.05)
+    assert worker.is_alive(), "the run ended before a worker could be lost"
+    pids = client.run(os.getpid)
+    os.kill(pids[sorted(pids)[0]], signal.SIGKILL)  # the nanny restarts it
+    worker.join(300)
+    assert not worker.is_alive()
+    assert triangle_set(done["tri"].simplices) == reference
+    assert set(client.scheduler_info()["workers"]) != before
+
+
+def _round_two_started(dask_scheduler):
+    return any("round2" in str(k) for k in dask_scheduler.tasks)
