@@ -34,6 +34,10 @@ class Experiment:
     # timeout, or None: such a cell is recorded as skipped with that reason
     # instead of being waited for again
     known_failure: Callable = None
+    # (args, out_dir, command) -> None: measures and writes results.csv itself instead
+    # of the runner, for cells that are not one peer in one child process
+    # (experiments.distributed runs a whole Dask cluster per cell)
+    measure: Callable = None
 
     @property
     def command(self):
@@ -90,16 +94,20 @@ class Experiment:
         root = results_root(args.out, args.scale)
         out_dir = root / self.name
         if not args.plot_only:
-            cells = self.cells(args)
+            cells = [] if self.measure else self.cells(args)
             if self.setup:
                 self.setup(args, out_dir)
             known = (lambda c: self.known_failure(args.scale, c)) if self.known_failure else None
-            runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
-                       known_failure=known,
-                       force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
-                       progress=not args.quiet, extra_metadata={"scale": args.scale},
-                       command=" ".join([self.command] + list(argv if argv is not None
-                                                               else sys.argv[1:])))
+            command = " ".join([self.command] + list(argv if argv is not None
+                                                     else sys.argv[1:]))
+            if self.measure:
+                self.measure(args, out_dir, command)
+            else:
+                runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
+                           known_failure=known,
+                           force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
+                           progress=not args.quiet, extra_metadata={"scale": args.scale},
+                           command=command)
         import matplotlib
         matplotlib.use("Agg")
         if not (out_dir / "results.csv").exists():

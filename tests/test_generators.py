@@ -139,3 +139,21 @@ def test_definitions_differ_between_sets_and_are_stable():
     assert generators.definition("uniform") != generators.definition("cube")
     assert generators.definition("uniform") == generators.definition("uniform")
     assert generators.definition("uniform") != generators.definition("grid")  # same module
+
+
+def test_chunked_sets_are_reproducible_chunk_by_chunk(tmp_path):
+    from generators import chunked
+    pattern = chunked.write("cluster", 2500, tmp_path, rows=1000)
+    import glob
+    files = sorted(glob.glob(pattern))
+    assert [len(np.load(f)) for f in files] == [1000, 1000, 500]
+    again = chunked.chunk("cluster", 2500, 1, rows=1000)
+    assert np.array_equal(np.load(files[1]), again)
+    pts = np.concatenate([np.load(f) for f in files])
+    # ten clusters of sd 0.05 around centres in [1, 2)^2, as generators.sets2d.cluster
+    assert np.allclose(pts.mean(0), 1.0 + np.random.default_rng(0).random((10, 2)).mean(0),
+                       atol=0.01)
+    u = chunked.chunk("uniform", 10, 0)
+    assert u.shape == (10, 2) and (u >= 0).all() and (u < 1).all()
+    with pytest.raises(ValueError, match="chunk-wise"):
+        chunked.chunk("spiral", 10, 0)

@@ -123,15 +123,18 @@ def _inside_cell(cx, cy, r, slack, cell):
 @njit(cache=True)
 def reach(P, S, roots, cell, boxes, me):
     """(face, tile) pairs: the closed circumdisk of face ``roots[f]`` (a
-    triangle of it) may meet tile j's box, j != me.  Boxes of empty tiles
-    are NaN and met by nothing."""
+    triangle of it) may meet tile j's box, j != me; and per face whether
+    its disk lies strictly inside the tile's own cell.  Boxes of empty
+    tiles are NaN and met by nothing."""
     out_f = np.empty(16, dtype=np.int64)
     out_j = np.empty(16, dtype=np.int64)
+    inside = np.zeros(len(roots), dtype=np.bool_)
     k = 0
     for f in range(len(roots)):
         t = roots[f]
         cx, cy, r, slack = _disk(P, S[t, 0], S[t, 1], S[t, 2])
         if _inside_cell(cx, cy, r, slack, cell):
+            inside[f] = True
             continue
         for j in range(boxes.shape[0]):
             if j == me or np.isnan(boxes[j, 0]):
@@ -143,7 +146,63 @@ def reach(P, S, roots, cell, boxes, me):
                 out_f[k] = f
                 out_j[k] = j
                 k += 1
-    return out_f[:k], out_j[:k]
+    return out_f[:k], out_j[:k], inside
+
+
+@njit(cache=True)
+def unsealed(S, face_of_root, inside, hull, n_local):
+    """Local vertices (index < n_local) whose star may still change: on the
+    hull, or with a face whose closed disk is not strictly inside the cell
+    (``inside`` per face, ``face_of_root`` maps a face's root triangle to
+    its face number).  Points from other tiles lie outside the cell, so the
+    other stars are final."""
+    out = np.zeros(n_local, dtype=np.bool_)
+    for t in range(S.shape[0]):
+        if not inside[face_of_root[t]]:
+            for k in range(3):
+                if S[t, k] < n_local:
+                    out[S[t, k]] = True
+    for v in hull:
+        if v < n_local:
+            out[v] = True
+    return out
+
+
+@njit(cache=True)
+def owned(S, gid, home, frontier, final):
+    """Global ids of the triangles a tile outputs: smallest global id
+    local, and no frontier vertex (``final``: the sealed interior) or at
+    least one."""
+    keep = np.zeros(S.shape[0], dtype=np.bool_)
+    for t in range(S.shape[0]):
+        a, b, c = S[t, 0], S[t, 1], S[t, 2]
+        m = a
+        if gid[b] < gid[m]:
+            m = b
+        if gid[c] < gid[m]:
+            m = c
+        touches = frontier[a] or frontier[b] or frontier[c]
+        keep[t] = home[m] < 0 and touches != final
+    out = np.empty((np.count_nonzero(keep), 3), dtype=np.int64)
+    k = 0
+    for t in range(S.shape[0]):
+        if keep[t]:
+            for i in range(3):
+                out[k, i] = gid[S[t, i]]
+            k += 1
+    return out
+
+
+@njit(cache=True)
+def with_neighbours(S, marked):
+    """marked, plus every vertex of a triangle with a marked vertex."""
+    out = marked.copy()
+    for t in range(S.shape[0]):
+        if marked[S[t, 0]] or marked[S[t, 1]] or marked[S[t, 2]]:
+            for k in range(3):
+                if S[t, k] < len(out):
+                    out[S[t, k]] = True
+    return out
 
 
 @njit(cache=True)

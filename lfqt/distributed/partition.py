@@ -5,7 +5,7 @@ and the tasks that measure the chunks and cut them into tiles.
     chunk_stats   one pass over a chunk: rows, magnitudes, a seeded sample
     kd_tree       the splits, from the pooled sample
     cut_chunk     a chunk's points scaled and grouped by tile
-    gather_tile   a tile's pieces, sorted by global id, duplicates removed
+    gather_tile   a tile's pieces, in global id order
 
 Cells are half-open: a point on a cut belongs to the upper side.  Points
 that compare equal (0.0 and -0.0 included) always fall in the same tile.
@@ -100,22 +100,14 @@ def piece(cut, t):
 
 
 def gather_tile(*pieces):
-    """A tile's local points: dict(ids, P) sorted by global id with exact
-    duplicates removed (the smallest id kept; ``dup``/``rep`` pair each
-    removed id with the id that represents it), and its box."""
-    ids = np.concatenate([p[0] for p in pieces]) if pieces else np.empty(0, np.int64)
-    P = np.concatenate([p[1] for p in pieces]) if pieces else np.empty((0, 2))
-    order = np.lexsort((ids, P[:, 1], P[:, 0]))
-    ids, P = ids[order], P[order]
-    same = np.zeros(len(ids), dtype=bool)
-    same[1:] = (P[1:] == P[:-1]).all(axis=1)
-    first = np.flatnonzero(~same)
-    rep = ids[first[np.cumsum(~same) - 1]]
-    keep = ~same
-    by_id = np.argsort(ids[keep], kind="stable")
+    """A tile's local points: dict(ids, P) sorted by global id (pieces come
+    in chunk order, each in id order), and its box.  Duplicates stay: the
+    tile's first triangulation names them (lfqt keeps the smallest id)."""
+    ids = np.concatenate([p[0] for p in pieces] + [np.empty(0, np.int64)])
+    P = np.concatenate([p[1] for p in pieces] + [np.empty((0, 2))])
     box = (np.array([P[:, 0].min(), P[:, 1].min(), P[:, 0].max(), P[:, 1].max()])
            if len(P) else np.full(4, np.nan))
-    return dict(ids=ids[keep][by_id], P=P[keep][by_id], dup=ids[same], rep=rep[same], box=box)
+    return dict(ids=ids, P=P, box=box)
 
 
 def auto_tiles(n, workers, points_per_tile=1 << 20):

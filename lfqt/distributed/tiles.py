@@ -28,16 +28,21 @@ EMPTY_IDS = np.empty(0, dtype=np.int64)
 
 
 def new_state(tiles):
+    """Nothing received or sent; ``keep`` (after the first round): the local
+    points later rounds triangulate, ``frontier`` those of them whose star
+    may still change."""
     return dict(ids=EMPTY_IDS, P=np.empty((0, 2)), home=EMPTY_IDS,
-                sent=[EMPTY_IDS] * tiles, rounds=0)
+                sent=[EMPTY_IDS] * tiles, rounds=0, keep=None, frontier=None)
 
 
-def _mesh(local, state):
-    """The triangulation of the tile's points and its foreign points:
-    (P, gid, home, Triangulation), vertices local first."""
-    P = np.concatenate((local["P"], state["P"]))
-    gid = np.concatenate((local["ids"], state["ids"]))
-    home = np.concatenate((np.full(len(local["ids"]), -1, dtype=np.int64), state["home"]))
+def _mesh(local, state, keep=None):
+    """The triangulation of the tile's points (those of ``keep``, default
+    all) and its foreign points: (P, gid, home, Triangulation), vertices
+    local first, each part sorted by global id."""
+    lp, lid = (local["P"], local["ids"]) if keep is None else (local["P"][keep], local["ids"][keep])
+    P = np.concatenate((lp, state["P"]))
+    gid = np.concatenate((lid, state["ids"]))
+    home = np.concatenate((np.full(len(lid), -1, dtype=np.int64), state["home"]))
     return P, gid, home, triangulate(P, threads=1, counters=False)
 
 
@@ -54,23 +59,27 @@ def _receive(state, inbox, me):
 
 def _face_groups(tri, P):
     """(face of each triangle, triangle order grouped by face, group starts)."""
-    face = geometry.faces(P, tri.simplices.astype(np.int64), tri.neighbors.astype(np.int64))
+    face = geometry.faces(P, tri.simplices, tri.neighbors)
     order = np.argsort(face, kind="stable")
     starts = np.flatnonzero(np.r_[True, face[order][1:] != face[order][:-1], True])
     return face, order, starts
 
 
-def _outgoing(P, home, tri, groups, cell, boxes, me):
-    """(vertex, tile) pairs to send, before removing what was sent already."""
+def _outgoing(P, home, tri, groups, cell, boxes, me, frontier):
+    """(vertex, tile) pairs to send, before removing what was sent already,
+    and per face whether its disk is strictly inside the cell:
+    faces with a vertex of the sender or the receiver, and a vertex on the
+    frontier (the others are final or, once the sealed interior is left
+    out, not faces of the tile's triangulation at all)."""
     tiles = len(boxes)
     if tri.degenerate:  # collinear or tiny: all of it is one face reaching everywhere
         others = [j for j in range(tiles) if j != me and not np.isnan(boxes[j, 0])]
         v = np.repeat(np.arange(len(P)), len(others))
-        return v, np.tile(np.array(others, dtype=np.int64), len(P))
-    S = tri.simplices.astype(np.int64)
+        return v, np.tile(np.array(others, dtype=np.int64), len(P)), None
+    S = tri.simplices
     face, order, starts = groups
     roots = face[order[starts[:-1]]]
-    f, j = geometry.reach(P, S, roots, cell, boxes, me)
+    f, j, inside = geometry.reach(P, S, roots, cell, boxes, me)
     # every vertex of every face that reaches j: triangles of the face x 3
     size = np.diff(starts)[f]
     tri_idx = order[np.repeat(starts[:-1][f], size) + _ramp(size)]
@@ -82,10 +91,10 @@ def _outgoing(P, home, tri, groups, cell, boxes, me):
     owner = np.where(home[v] < 0, me, home[v])
     face_id = np.concatenate((np.repeat(np.repeat(np.arange(len(f)), size), 3), len(f) + hface))
     pair = face_id * len(boxes) + j
-    ok = (owner == me) | (owner == j)
-    good_pairs = np.unique(pair[ok])
+    ok = ((owner == me) | (owner == j))
+    good_pairs = np.intersect1d(pair[ok], pair[frontier[v]])
     keep = np.isin(pair, good_pairs)
-    return v[keep], j[keep]
+    return v[keep], j[keep], inside
 
 
 def _ramp(size):
@@ -117,10 +126,16 @@ def step(me, local, state, inbox, cell, boxes):
     """One round of tile ``me``: (new state, outbox {tile: (ids, P, home)},
     summary)."""
     state = _receive(state, inbox, me)
-    P, gid, home, tri = _mesh(local, state)
+    P, gid, home, tri = _mesh(local, state, state["keep"])
     groups = None if tri.degenerate else _face_groups(tri, P)
-    v, j = _outgoing(P, home, tri, groups, cell, boxes, me)
-    n_local = len(local["ids"])
+    n_local = int(np.count_nonzero(home < 0))
+    if state["frontier"] is not None:
+        frontier = np.concatenate((state["frontier"], np.ones(len(state["ids"]), dtype=bool)))
+    else:  # a full triangulation: every face is real, every vertex may send
+        frontier = np.ones(len(P), dtype=bool)
+    v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, frontier)
+    if state["frontier"] is None and not tri.degenerate:
+        state = _seal(state, P, gid, home, tri, groups, inside)
     send_home = np.where(home < 0, me, home)
     ok = send_home[v] != j  # a tile knows its own points
     v, j = v[ok], j[ok]
@@ -138,6 +153,35 @@ def step(me, local, state, inbox, cell, boxes):
                    triangles=len(tri.simplices), sent={t: len(m[0]) for t, m in outbox.items()},
                    peak_rss=_peak_rss())
     return state, outbox, summary
+
+
+def _seal(state, P, gid, home, tri, groups, inside):
+    """After the tile's first full triangulation: the local points whose
+    star may still change (``frontier``), the points later rounds need
+    (those and their neighbours: no local edge ever appears later, so the
+    stars of the frontier stay whole), the duplicates, and the owned
+    triangles of the final faces, which no later round recomputes."""
+    n_local = int(np.count_nonzero(home < 0))
+    S = tri.simplices
+    face, order, starts = groups
+    roots = face[order[starts[:-1]]]
+    number = np.empty(len(S), dtype=np.int64)
+    number[roots] = np.arange(len(roots))
+    live = geometry.unsealed(S, number[face], inside, np.asarray(tri.hull, dtype=np.int64),
+                             n_local)
+    keep = np.flatnonzero(geometry.with_neighbours(S, live))
+    frontier = np.concatenate((live, np.ones(len(P) - n_local, dtype=bool)))
+    dup = np.flatnonzero(tri.duplicate_of[:n_local] != np.arange(n_local))
+    interior = geometry.owned(_cut(tri, P, gid, groups), gid, home, frontier, True)
+    return dict(state, keep=keep, frontier=live[keep], interior=interior, dup=gid[dup],
+                rep=gid[tri.duplicate_of[dup]])
+
+
+def _cut(tri, P, gid, groups):
+    """The triangles with every cocircular face cut as a fan from its
+    smallest global id (local vertex indices)."""
+    face, order, starts = groups
+    return geometry.canonical(tri.simplices, tri.neighbors, face, order, starts, gid)
 
 
 def _rows(gid, n_local, ids):
@@ -160,23 +204,26 @@ def collect(me, *outboxes):
 
 def finish(me, local, state, out=None, fmt="npy"):
     """The tile's share of the result: every triangle whose smallest global
-    id is one of the tile's points, cocircular faces cut canonically.
+    id is one of the tile's points, cocircular faces cut canonically: the
+    sealed interior from the first round, the rest from the points kept.
     Returns the (m, 3) global ids, or with ``out`` the path written."""
-    P, gid, home, tri = _mesh(local, state)
-    if tri.degenerate:
-        S = np.empty((0, 3), dtype=np.int64)
+    P, gid, home, tri = _mesh(local, state, state["keep"])
+    if state["frontier"] is None:  # never sealed: degenerate all along
+        frontier = np.ones(len(P), dtype=bool)
+        state = dict(state, interior=np.empty((0, 3), dtype=np.int64),
+                     dup=gid[tri.duplicate_of != np.arange(len(P))],
+                     rep=gid[tri.duplicate_of[tri.duplicate_of != np.arange(len(P))]])
     else:
-        face, order, starts = _face_groups(tri, P)
-        S = geometry.canonical(tri.simplices.astype(np.int64), tri.neighbors.astype(np.int64),
-                               face, order, starts, gid)
-    G = gid[S]
-    owned = home[S[np.arange(len(S)), np.argmin(G, axis=1)]] < 0 if len(S) else np.zeros(0, bool)
-    G = G[owned]
+        frontier = np.concatenate((state["frontier"], np.ones(len(state["ids"]), dtype=bool)))
+    rest = (np.empty((0, 3), dtype=np.int64) if tri.degenerate else
+            geometry.owned(_cut(tri, P, gid, _face_groups(tri, P)), gid, home, frontier,
+                           False))
+    G = np.concatenate((state["interior"], rest))
     info = dict(tile=me, triangles=len(G), points=len(P), foreign=len(state["ids"]),
                 local=len(local["ids"]), rounds=state["rounds"], peak_rss=_peak_rss(),
-                duplicates=len(local["dup"]))
+                duplicates=len(state["dup"]))
     if out is None:
-        return G, (local["dup"], local["rep"]), info
+        return G, (state["dup"], state["rep"]), info
     from pathlib import Path
     path = Path(out) / f"tile-{me:05d}.{fmt}"
     if fmt == "npy":
@@ -185,4 +232,4 @@ def finish(me, local, state, out=None, fmt="npy"):
         import pyarrow as pa
         import pyarrow.parquet as pq
         pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
-    return str(path), (local["dup"], local["rep"]), info
+    return str(path), (state["dup"], state["rep"]), info
