@@ -104,20 +104,20 @@ def measure_one(distribution, n, repeats, scratch, progress):
         t0 = time.perf_counter()
         got = lfqt.distributed.triangulate(pattern, out=out, progress=progress)
         seconds = time.perf_counter() - t0
-        st = got["stats"]
+        st = got.stats
         peak = max(st["peak_rss"].values())
         rows.append(dict(base, peer="lfqt-distributed", threads=st["workers"], repeat=k,
                          seconds=seconds, mpts_per_s=results.rate(n, seconds), peak_bytes=peak,
                          bytes_per_point=peak * st["workers"] / n,
                          counts=_counts(st, n)))
-    report = lfqt.distributed.verify(got["paths"], pattern, progress=progress)
+    report = lfqt.distributed.verify(got, pattern, progress=progress)
     for r in rows:
         r["counts"]["verified"] = bool(report.ok)
         r["counts"]["problems"] = report.problems
     fits = n * SINGLE_BYTES_PER_POINT < 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf(
         "SC_PHYS_PAGES")
     if fits:
-        single = _run_single(pattern, got["paths"], workers, repeats)
+        single = _run_single(pattern, list(got), workers, repeats)
         for r in rows:
             r["counts"]["equal_to_lfqt"] = single["equal"]
         for k, sec in enumerate(single["seconds"]):

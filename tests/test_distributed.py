@@ -234,17 +234,19 @@ def test_dask_npy_and_parquet_chunks(client, cloud, reference, tmp_path):
         _gathered_ok(cloud, tri, client, reference)
 
 
-def test_dask_collection_input(client, cloud, reference):
+def test_dask_collection_input_and_a_scheduler_address(client, cloud, reference):
     import dask.array as da
-    tri = D.triangulate(da.from_array(cloud, chunks=(40_000, 2)), client=client, progress=False)
+    tri = D.triangulate(da.from_array(cloud, chunks=(40_000, 2)), client=client.scheduler.address,
+                        progress=False)
     assert triangle_set(tri.simplices) == reference
 
 
 @pytest.mark.parametrize("fmt", ["npy", "parquet"])
 def test_dask_out_writes_each_tile(client, cloud, reference, tmp_path, fmt):
     got = D.triangulate(cloud, client=client, tiles=4, out=tmp_path, format=fmt, progress=False)
-    assert len(got["paths"]) == 4 and all(os.path.exists(p) for p in got["paths"])
-    shares = [dcheck.share_triangles(fmt, p) for p in got["paths"]]
+    assert sorted(os.listdir(tmp_path)) == sorted(os.path.basename(p) for p in got)  # no leftovers
+    assert got.n == len(cloud) and got.stats["tiles"] == 4
+    shares = [dcheck.share_triangles(fmt, p) for p in got]
     assert triangle_set(np.concatenate(shares)) == reference
     report = D.verify(got, cloud, client=client, progress=False)
     assert report.ok, report.problems

@@ -244,3 +244,24 @@ def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(tmp_path, capsys):
     assert set(best) == {(d, 20_000, t) for d in ("uniform", "grid") for t in (1, 2)}
     assert "hybrid time / dc time" in capsys.readouterr().out
     assert (tmp_path / "smoke" / "figures" / "hybrid.png").stat().st_size > 20000
+
+
+def test_distributed_measures_checks_and_resumes(tmp_path, capsys):
+    import pytest
+    pytest.importorskip("dask.distributed")
+    from experiments import distributed
+    args = ["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--dists", "uniform"]
+    assert distributed.EXPERIMENT.main(args) == 0
+    out = tmp_path / "smoke" / "distributed"
+    df = results.load(out)
+    assert set(df["peer"]) == {"lfqt-distributed", "lfqt"} and (df["n"] == 100_000).all()
+    c = df.loc[df["peer"] == "lfqt-distributed", "counts"].iloc[0]
+    assert c["verified"] and c["equal_to_lfqt"] and c["rounds"] >= 2
+    assert c["received_max"] > 0 and len(c["peak_rss_per_worker"]) == c["workers"]
+    assert "uniform" in capsys.readouterr().out
+    assert (tmp_path / "smoke" / "figures" / "distributed.png").stat().st_size > 20000
+    log = (out / "cells.jsonl").read_text()
+    assert distributed.EXPERIMENT.main(args) == 0  # resumes: nothing measured again
+    assert (out / "cells.jsonl").read_text() == log
+    meta = json.loads((out / "metadata.json").read_text())
+    assert meta["resumed_cells"] == 1 and "dask" in meta and "cpu" in str(meta).lower()

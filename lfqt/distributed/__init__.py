@@ -65,7 +65,9 @@ def triangulate(points, *, client=None, tiles=None, out=None, format="npy", prog
 
     Returns
     -------
-    Triangulation, or (with ``out``) a dict with the file paths and stats.
+    Triangulation, or (with ``out``) the list of the files written
+    (:class:`Tiles`, with ``.stats``: tiles, rounds, points sent per round,
+    points received per tile, peak memory per worker, seconds per phase).
     """
     if format not in FORMATS:
         raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
@@ -119,8 +121,9 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
     inbox = {t: [] for t in live}
     active, history = list(live), []
     while active:
+        t_round = time.perf_counter()
         stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
-                                    boxes, key=f"round{len(history) + 1}-tile{t}")
+                                    boxes, out, key=f"round{len(history) + 1}-tile{t}")
                    for t in active}
         summaries = engine.gather([engine.submit(_item, s, 2, key="summary")
                                    for s in stepped.values()], f"round {len(history) + 1}")
@@ -134,18 +137,24 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
         inbox = {j: engine.submit(tile_tasks.collect, j, *[outbox[i] for i in senders[j]],
                                   key="inbox") for j in senders}
         history.append(dict(active=len(active), sent=sum(sum(s["sent"].values())
-                                                         for s in summaries)))
+                                                         for s in summaries),
+                            seconds=time.perf_counter() - t_round,
+                            points=sum(s["points"] for s in summaries)))
         active = sorted(senders)
     t_rounds = time.perf_counter()
 
     finished = engine.gather([engine.submit(tile_tasks.finish, t, local[t], state[t], out, fmt,
                                             key="finish") for t in live], "finish")
+    if out is not None:
+        engine.gather([engine.submit(tile_tasks.cleanup, state[t], key="cleanup") for t in live])
     t_finish = time.perf_counter()
     info = [f[2] for f in finished]
     result_stats = {
         "tiles": T, "rounds": len(history), "scale_exponent": scale_exp,
         "sent_per_round": [h["sent"] for h in history],
         "tiles_per_round": [h["active"] for h in history],
+        "seconds_per_round": [h["seconds"] for h in history],
+        "points_per_round": [h["points"] for h in history],  # triangulated, all tiles
         "points_per_tile": [i["local"] for i in info],
         "received_per_tile": [i["foreign"] for i in info],
         "triangles_per_tile": [i["triangles"] for i in info],
@@ -156,7 +165,7 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
         "workers": engine.workers,
     }
     if out is not None:
-        return {"paths": [f[0] for f in finished], "n": n, "stats": result_stats}
+        return Tiles([f[0] for f in finished], n=n, stats=result_stats)
     simplices = np.concatenate([f[0] for f in finished] + [np.empty((0, 3), np.int64)])
     duplicate_of = np.arange(n, dtype=np.int64)
     for dup, rep in (f[1] for f in finished):
@@ -167,6 +176,15 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
             [engine.submit(sources.read, kind, what, key="read") for kind, what, _ in chunk_list])]
             + [np.empty((0, 2))])
     return assemble(points, simplices, duplicate_of, result_stats)
+
+
+class Tiles(list):
+    """The paths of the tiles' files (what ``triangulate`` returns with
+    ``out``), with ``n`` (the points) and ``stats`` (as a Triangulation's)."""
+
+    def __init__(self, paths, *, n, stats):
+        super().__init__(paths)
+        self.n, self.stats = n, stats
 
 
 def _box(local):
@@ -227,8 +245,8 @@ def verify(result, points, *, client=None, progress=None):
     (lfqt.distributed.check), without loading the whole point set on one
     process.
 
-    ``result``: what ``triangulate`` returned (a Triangulation, or the dict
-    with ``paths``), or a list of tile files.  ``points``: the same input as
+    ``result``: what ``triangulate`` returned (a Triangulation, or the
+    list of tile files).  ``points``: the same input as
     given to ``triangulate``.  Returns a lfqt.VerifyReport.
     """
     chunk_list = sources.chunks(points)
@@ -244,8 +262,6 @@ def verify(result, points, *, client=None, progress=None):
 
 def _shares(result, engine):
     """The triangles as shares: (kind, what) per tile file or slice."""
-    if isinstance(result, dict):
-        result = result["paths"]
     if isinstance(result, (list, tuple)):
         return [("npy" if str(p).endswith(".npy") else "parquet", str(p)) for p in result]
     S = np.asarray(result.simplices, dtype=np.int64)

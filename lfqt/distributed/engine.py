@@ -52,7 +52,7 @@ class Dask:
             total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
             cluster = LocalCluster(n_workers=cores, threads_per_worker=1, processes=True,
                                    memory_limit=min(WORKER_MEMORY_CAP, total // cores),
-                                   dashboard_address=None, silence_logs=logging.WARNING)
+                                   dashboard_address=None, silence_logs=logging.CRITICAL)
             client = Client(cluster)
             self._own = [client, cluster]
         elif isinstance(client, str):

@@ -122,9 +122,10 @@ def _hull_pairs(P, hull, boxes, me):
     return np.concatenate(vs), np.concatenate(js), np.concatenate(rs)
 
 
-def step(me, local, state, inbox, cell, boxes):
+def step(me, local, state, inbox, cell, boxes, out=None):
     """One round of tile ``me``: (new state, outbox {tile: (ids, P, home)},
-    summary)."""
+    summary).  With ``out``, the sealed interior's triangles wait there
+    rather than in the worker's memory."""
     state = _receive(state, inbox, me)
     P, gid, home, tri = _mesh(local, state, state["keep"])
     groups = None if tri.degenerate else _face_groups(tri, P)
@@ -136,6 +137,11 @@ def step(me, local, state, inbox, cell, boxes):
     v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, frontier)
     if state["frontier"] is None and not tri.degenerate:
         state = _seal(state, P, gid, home, tri, groups, inside)
+        if out is not None:
+            from pathlib import Path
+            path = Path(out) / f"tile-{me:05d}.interior.npy"
+            np.save(path, state["interior"])
+            state["interior"] = str(path)
     send_home = np.where(home < 0, me, home)
     ok = send_home[v] != j  # a tile knows its own points
     v, j = v[ok], j[ok]
@@ -218,7 +224,10 @@ def finish(me, local, state, out=None, fmt="npy"):
     rest = (np.empty((0, 3), dtype=np.int64) if tri.degenerate else
             geometry.owned(_cut(tri, P, gid, _face_groups(tri, P)), gid, home, frontier,
                            False))
-    G = np.concatenate((state["interior"], rest))
+    interior = state["interior"]
+    if isinstance(interior, str):  # waiting in a file of ``out`` (step)
+        interior = np.load(interior)
+    G = np.concatenate((interior, rest))
     info = dict(tile=me, triangles=len(G), points=len(P), foreign=len(state["ids"]),
                 local=len(local["ids"]), rounds=state["rounds"], peak_rss=_peak_rss(),
                 duplicates=len(state["dup"]))
@@ -233,3 +242,10 @@ def finish(me, local, state, out=None, fmt="npy"):
         import pyarrow.parquet as pq
         pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
     return str(path), (state["dup"], state["rep"]), info
+
+
+def cleanup(state):
+    """Remove the file where the sealed interior waited (after finish)."""
+    if isinstance(state.get("interior"), str):
+        from pathlib import Path
+        Path(state["interior"]).unlink(missing_ok=True)
