@@ -40,9 +40,21 @@ def requests(kind, what, starts):
     S = share_triangles(kind, what)
     inside = ((S >= 0) & (S < starts[-1])).all(axis=1)
     S = S[inside]
-    ids = np.unique(S)
+    ids, L = _unique_inverse(S.ravel())
     cut = np.searchsorted(ids, starts)
-    return S, ids, [ids[cut[c]:cut[c + 1]] for c in range(len(starts) - 1)], int((~inside).sum())
+    return (L.reshape(-1, 3), ids, [ids[cut[c]:cut[c + 1]] for c in range(len(starts) - 1)],
+            int((~inside).sum()))
+
+
+def _unique_inverse(x):
+    """(sorted distinct values, index of each x among them), by one sort."""
+    order = np.argsort(x, kind="stable")
+    xs = x[order]
+    new = np.ones(len(xs), dtype=bool)
+    new[1:] = xs[1:] != xs[:-1]
+    inverse = np.empty(len(x), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return xs[new], inverse
 
 
 def request_piece(req, c):
@@ -54,7 +66,15 @@ def lookup(kind, what, start, scale_exp, *wanted):
     many distinct ids of the chunk are used at all."""
     P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
     out = [P[w - start] for w in wanted]
-    return out, len(np.unique(np.concatenate(list(wanted) + [np.empty(0, np.int64)])))
+    return out, _distinct(np.concatenate(list(wanted) + [np.empty(0, np.int64)]))
+
+
+def _distinct(x):
+    """How many distinct values x holds."""
+    if not len(x):
+        return 0
+    xs = np.sort(x)
+    return int(np.count_nonzero(xs[1:] != xs[:-1])) + 1
 
 
 def lookup_piece(found, s):
@@ -64,15 +84,14 @@ def lookup_piece(found, s):
 def check_share(req, *coords):
     """Checks 1 and 2 inside one share: (counts, border edges (u, v, w) and
     their coordinates)."""
-    S, ids, _, unknown = req
+    L, ids, _, unknown = req
     P = np.concatenate(list(coords) + [np.empty((0, 2))])
-    L = np.searchsorted(ids, S)
     bad_orient = _bad_orientation(P, L)
     a, b, w = _edges(L)
     pairs, repeated, lone = _pair(a, b, len(ids))
     bad_local = _not_locally_delaunay(P, a, b, w, pairs)
     border = (ids[a[lone]], ids[b[lone]], ids[w[lone]], P[a[lone]], P[b[lone]], P[w[lone]])
-    return dict(triangles=len(S), vertex_not_a_point=unknown, not_counter_clockwise=bad_orient,
+    return dict(triangles=len(L), vertex_not_a_point=unknown, not_counter_clockwise=bad_orient,
                 repeated_edges=repeated, not_locally_delaunay=bad_local), border
 
 
@@ -86,20 +105,26 @@ def _edges(L):
 
 
 def _pair(a, b, n):
-    """(twin pairs (i, j), count of directed edges seen twice, indices of
-    the edges without a twin); a and b index n vertices."""
-    n = max(int(n), 1)
-    k = a.astype(np.int64) * n + b
-    t = b.astype(np.int64) * n + a
-    order = np.argsort(k, kind="stable")
-    sk = k[order]
-    repeated = int(np.count_nonzero(sk[1:] == sk[:-1]))
-    pos = np.minimum(np.searchsorted(sk, t), max(len(sk) - 1, 0))
-    has = sk[pos] == t if len(sk) else np.zeros(0, dtype=bool)
-    i = np.flatnonzero(has)
-    j = order[pos[has]]
-    once = i < j
-    return np.column_stack((i[once], j[once])), repeated, np.flatnonzero(~has)
+    """(twin pairs (i, j), count of edges seen more often than a triangle
+    on each side allows, indices of the edges without a twin); a and b
+    index n vertices.  One sort of the undirected keys: twins end up side
+    by side."""
+    n = np.int64(max(int(n), 1))
+    lo, hi = np.minimum(a, b).astype(np.int64), np.maximum(a, b).astype(np.int64)
+    order = np.argsort(lo * n + hi, kind="stable")
+    key = (lo * n + hi)[order]
+    forward = (a < b)[order]
+    start = np.ones(len(key), dtype=bool)
+    start[1:] = key[1:] != key[:-1]
+    group = np.cumsum(start) - 1
+    size = np.bincount(group) if len(key) else np.zeros(0, dtype=np.int64)
+    firsts = np.flatnonzero(start)
+    two = size == 2
+    i, j = order[firsts[two]], order[firsts[two] + 1]
+    opposite = forward[firsts[two]] != forward[firsts[two] + 1]
+    repeated = int(np.count_nonzero(size > 2) + np.count_nonzero(~opposite))
+    lone = order[firsts[size == 1]]
+    return np.column_stack((i[opposite], j[opposite])), repeated, lone
 
 
 @njit(cache=True)
@@ -249,4 +274,8 @@ def off_line(kind, what, scale_exp, a, b):
 
 def tile_distinct(local):
     """Distinct points of one tile (equal points always share a tile)."""
-    return len(np.unique(local["P"], axis=0))
+    P = local["P"]
+    if not len(P):
+        return 0
+    order = np.lexsort((P[:, 1], P[:, 0]))
+    return int(np.count_nonzero((P[order[1:]] != P[order[:-1]]).any(axis=1))) + 1
