@@ -134,6 +134,8 @@ def test_kd_tiles_are_balanced_on_clustered_data(rng):
     inside = [(cells[t, 0] <= pts[:, 0]) & (pts[:, 0] < cells[t, 2]) & (cells[t, 1] <= pts[:, 1])
               & (pts[:, 1] < cells[t, 3]) for t in range(8)]
     assert (np.sum(inside, axis=0) == 1).all()  # the cells partition the plane
+    near = partition.touching(cells)
+    assert (near == near.T).all() and near.diagonal().all() and not near.all()
 
 
 # --- the distributed check catches broken meshes ---------------------------------------------

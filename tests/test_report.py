@@ -87,3 +87,27 @@ def test_grid_rate_needs_grid_and_another_set_at_the_same_size(tmp_path):
     times[("lfqt-dc", "grid", 1_000_000)] = 0.5
     _store(tmp_path, "fig4", times)
     assert report.fig4_rates(report.Results(tmp_path))[1].verdict == report.FAILS
+
+
+def _distributed(root, verified=True, equal=True, peak=4 * 2**30):
+    import json
+    rows = []
+    for n in (1_000_000, 10_000_000):
+        counts = dict(rounds=5, verified=verified, equal_to_lfqt=equal)
+        rows.append(dict(experiment="distributed", peer="lfqt-distributed", distribution="uniform",
+                         n=n, threads=2, repeat=0, status="ok", seconds=n / 1e6, peak_bytes=peak,
+                         counts=json.dumps(counts)))
+        rows.append(dict(experiment="distributed", peer="lfqt", distribution="uniform", n=n,
+                         threads=2, repeat=0, status="ok", seconds=n / 4e6, peak_bytes=peak,
+                         counts="{}"))
+    (root / "distributed").mkdir(parents=True, exist_ok=True)
+    results.write(root / "distributed", rows)
+    return report.distributed_answer(report.Results(root))[0]
+
+
+def test_distributed_row_needs_exact_results_and_the_memory_bound(tmp_path):
+    row = _distributed(tmp_path)
+    assert row.verdict == report.HOLDS and "4.00x one process's time" in row.ours
+    assert _distributed(tmp_path, equal=False).verdict == report.FAILS
+    assert _distributed(tmp_path, verified=False).verdict == report.FAILS
+    assert _distributed(tmp_path, peak=9 * 2**30).verdict == report.FAILS

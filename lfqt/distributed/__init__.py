@@ -12,7 +12,12 @@ distributed Delaunay triangulation", ISPRS Annals V-2-2020):
 3. rounds: each tile triangulates its points and those it has received
    with ``lfqt.triangulate``, and sends to every other tile the vertices of
    each face whose closed circumdisk meets that tile's box, until no tile
-   has anything new to send (lfqt.distributed.tiles);
+   has anything new to send (lfqt.distributed.tiles).  The first
+   NEIGHBOUR_ROUNDS rounds send only to the tiles whose cells touch and
+   leave the hull's infinite faces out; then the rule applies in full
+   until no tile has anything new.  Without it, a tile's border (slivers along its
+   box, and its hull) reaches half the tiles in the first round, and the
+   exchange grows with the number of tiles;
 4. each tile outputs the triangles whose smallest global id is its own;
    cocircular faces are cut as a fan from their smallest global id, so all
    tiles cut them alike.
@@ -31,6 +36,7 @@ from . import partition, sources, tiles as tile_tasks
 from .engine import Dask, Serial
 
 SAMPLE_SIZE = 1 << 17  # points drawn to place the k-d cuts
+NEIGHBOUR_ROUNDS = 2  # rounds of the first phase (see step 3 above)
 SEED = 0
 FORMATS = ("npy", "parquet")
 
@@ -119,11 +125,13 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
     live = [t for t in range(T) if not np.isnan(boxes[t, 0])]
     state = {t: tile_tasks.new_state(T) for t in live}
     inbox = {t: [] for t in live}
-    active, history = list(live), []
+    near = partition.touching(cells)
+    active, history, everywhere = list(live), [], False
     while active:
         t_round = time.perf_counter()
         stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
-                                    boxes, out, key=f"round{len(history) + 1}-tile{t}")
+                                    boxes, out, None if everywhere else near[t],
+                                    key=f"round{len(history) + 1}-tile{t}")
                    for t in active}
         summaries = engine.gather([engine.submit(_item, s, 2, key="summary")
                                    for s in stepped.values()], f"round {len(history) + 1}")
@@ -141,6 +149,10 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
                             seconds=time.perf_counter() - t_round,
                             points=sum(s["points"] for s in summaries)))
         active = sorted(senders)
+        if not everywhere and (not active or len(history) == NEIGHBOUR_ROUNDS):
+            # the borders are closed: now the rule in full, for every tile
+            active, everywhere = list(live), True
+            inbox.update({t: [] for t in live if t not in inbox})
     t_rounds = time.perf_counter()
 
     finished = engine.gather([engine.submit(tile_tasks.finish, t, local[t], state[t], out, fmt,

@@ -110,6 +110,13 @@ def gather_tile(*pieces):
     return dict(ids=ids, P=P, box=box)
 
 
+def touching(cells):
+    """(tiles, tiles) bool: the closed cells meet (sides or corners)."""
+    c = np.asarray(cells)
+    return ((c[:, None, 0] <= c[None, :, 2]) & (c[None, :, 0] <= c[:, None, 2])
+            & (c[:, None, 1] <= c[None, :, 3]) & (c[None, :, 1] <= c[:, None, 3]))
+
+
 def auto_tiles(n, workers, points_per_tile=1 << 20):
     """Tiles by default: about a million points each, at least two per worker."""
     return max(2 * workers, math.ceil(n / points_per_tile), 1)

@@ -65,7 +65,7 @@ def _face_groups(tri, P):
     return face, order, starts
 
 
-def _outgoing(P, home, tri, groups, cell, boxes, me, frontier):
+def _outgoing(P, home, tri, groups, cell, boxes, me, frontier, hull=True):
     """(vertex, tile) pairs to send, before removing what was sent already,
     and per face whether its disk is strictly inside the cell:
     faces with a vertex of the sender or the receiver, and a vertex on the
@@ -85,7 +85,8 @@ def _outgoing(P, home, tri, groups, cell, boxes, me, frontier):
     tri_idx = order[np.repeat(starts[:-1][f], size) + _ramp(size)]
     v = S[tri_idx].ravel()
     j = np.repeat(np.repeat(j, size), 3)
-    hv, hj, hface = _hull_pairs(P, np.asarray(tri.hull, dtype=np.int64), boxes, me)
+    hv, hj, hface = (_hull_pairs(P, np.asarray(tri.hull, dtype=np.int64), boxes, me) if hull
+                     else (EMPTY_IDS, EMPTY_IDS, EMPTY_IDS))
     v, j = np.concatenate((v, hv)), np.concatenate((j, hj))
     # keep the faces with a vertex of the sender or of the receiver
     owner = np.where(home[v] < 0, me, home[v])
@@ -122,10 +123,17 @@ def _hull_pairs(P, hull, boxes, me):
     return np.concatenate(vs), np.concatenate(js), np.concatenate(rs)
 
 
-def step(me, local, state, inbox, cell, boxes, out=None):
+def step(me, local, state, inbox, cell, boxes, out=None, near=None):
     """One round of tile ``me``: (new state, outbox {tile: (ids, P, home)},
     summary).  With ``out``, the sealed interior's triangles wait there
-    rather than in the worker's memory."""
+    rather than in the worker's memory.  ``near`` (the driver's first
+    phase): send only to these tiles, and leave the hull's infinite faces
+    out; until its neighbours' points close it, a tile's border is a chain
+    of slivers whose huge disks, like its hull's half-planes, reach half the
+    tiles."""
+    hull = near is None
+    if near is not None:
+        boxes = np.where(near[:, None], boxes, np.nan)
     state = _receive(state, inbox, me)
     P, gid, home, tri = _mesh(local, state, state["keep"])
     groups = None if tri.degenerate else _face_groups(tri, P)
@@ -134,7 +142,7 @@ def step(me, local, state, inbox, cell, boxes, out=None):
         frontier = np.concatenate((state["frontier"], np.ones(len(state["ids"]), dtype=bool)))
     else:  # a full triangulation: every face is real, every vertex may send
         frontier = np.ones(len(P), dtype=bool)
-    v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, frontier)
+    v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, frontier, hull)
     if state["frontier"] is None and not tri.degenerate:
         state = _seal(state, P, gid, home, tri, groups, inside)
         if out is not None:
