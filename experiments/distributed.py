@@ -135,6 +135,8 @@ def _counts(st, n):
     local = np.maximum(np.array(st["points_per_tile"]), 1)
     return dict(tiles=st["tiles"], rounds=st["rounds"], workers=st["workers"],
                 sent_per_round=st["sent_per_round"], phases=st["seconds"],
+                seconds_per_round=st["seconds_per_round"],
+                points_per_round=st["points_per_round"],
                 received_median=float(np.median(received)), received_max=int(received.max()),
                 received_share_median=float(np.median(received / local)),
                 received_share_max=float((received / local).max()),

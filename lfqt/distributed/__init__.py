@@ -26,6 +26,7 @@ Every decision is exact (lfqt.distributed.geometry).  The result is the
 Delaunay triangulation; where it is not unique (grids, cocircular sets) it
 is one valid Delaunay triangulation, checked tile by tile by ``verify``.
 """
+import contextlib
 import time
 
 import numpy as np
@@ -79,13 +80,21 @@ def triangulate(points, *, client=None, tiles=None, out=None, format="npy", prog
         raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
     if tiles is not None and (not isinstance(tiles, (int, np.integer)) or tiles < 1):
         raise ValueError(f"tiles must be a positive integer or None, got {tiles!r}")
+    with _on_dask(points, client, progress) as (chunk_list, engine):
+        return triangulate_on(chunk_list, engine, tiles, out, format, points)
+
+
+@contextlib.contextmanager
+def _on_dask(points, client, progress):
+    """(chunks of ``points``, the Dask engine), closed afterwards; a dask
+    collection's blocks are computed on the cluster, once."""
     chunk_list = sources.chunks(points)
     engine = Dask(client, progress)
     try:
         if chunk_list and chunk_list[0][0] == "dask":
             blocks = engine.client.compute([c[1] for c in chunk_list])
             chunk_list = [("dask", b, c[2]) for b, c in zip(blocks, chunk_list)]
-        return triangulate_on(chunk_list, engine, tiles, out, format, points)
+        yield chunk_list, engine
     finally:
         engine.close()
 
@@ -261,15 +270,8 @@ def verify(result, points, *, client=None, progress=None):
     list of tile files).  ``points``: the same input as
     given to ``triangulate``.  Returns a lfqt.VerifyReport.
     """
-    chunk_list = sources.chunks(points)
-    engine = Dask(client, progress)
-    try:
-        if chunk_list and chunk_list[0][0] == "dask":
-            blocks = engine.client.compute([c[1] for c in chunk_list])
-            chunk_list = [("dask", b, c[2]) for b, c in zip(blocks, chunk_list)]
+    with _on_dask(points, client, progress) as (chunk_list, engine):
         return verify_on(result, chunk_list, engine)
-    finally:
-        engine.close()
 
 
 def _shares(result, engine):
