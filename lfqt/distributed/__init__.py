@@ -28,6 +28,7 @@ is one valid Delaunay triangulation, checked tile by tile by ``verify``.
 """
 import contextlib
 import time
+from operator import getitem
 
 import numpy as np
 
@@ -103,30 +104,14 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
     """Tile & Merge over ``chunk_list`` (lfqt.distributed.sources) on
     ``engine`` (lfqt.distributed.engine); see ``triangulate``."""
     t0 = time.perf_counter()
-    rows = [c[2] for c in chunk_list]
-    starts = np.concatenate(([0], np.cumsum(rows))).astype(np.int64)
+    starts, scale_exp, sample = _measure(chunk_list, engine)
     n = int(starts[-1])
-    rate = min(1.0, SAMPLE_SIZE / max(n, 1))
-    stats = engine.gather([engine.submit(partition.chunk_stats, kind, what, int(s), rate, SEED,
-                                         key="measure")
-                           for (kind, what, _), s in zip(chunk_list, starts)], "measure")
-    for (kind, what, expected), st in zip(chunk_list, stats):
-        if st[0] != expected:
-            raise ValueError(f"a {kind} chunk changed while being read: {expected} rows "
-                             f"announced, {st[0]} read")
-    scale_exp = window_exponent(max(s[1] for s in stats), min(s[2] for s in stats),
-                                MAX_EXP, MIN_ULP_EXP)
-    sample = np.concatenate([s[3] for s in stats] + [np.empty((0, 2))]) * 2.0 ** scale_exp
     T = int(tiles or partition.auto_tiles(n, engine.workers))
     nodes, cells = partition.kd_tree(sample, T)
     t_measure = time.perf_counter()
 
-    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T, key="cut")
-            for (kind, what, _), s in zip(chunk_list, starts)]
-    local = [engine.submit(partition.gather_tile,
-                           *[engine.submit(partition.piece, c, t, key="piece") for c in cuts],
-                           key=f"tile-{t}") for t in range(T)]
-    boxes = np.array(engine.gather([engine.submit(_box, loc, key="box") for loc in local],
+    local, cuts = _tiles(chunk_list, starts, scale_exp, nodes, T, engine)
+    boxes = np.array(engine.gather([engine.submit(getitem, loc, "box", key="box") for loc in local],
                                    "partition"))
     engine.release(cuts)
     t_partition = time.perf_counter()
@@ -142,11 +127,11 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
                                     boxes, out, None if everywhere else near[t],
                                     key=f"round{len(history) + 1}-tile{t}")
                    for t in active}
-        summaries = engine.gather([engine.submit(_item, s, 2, key="summary")
+        summaries = engine.gather([engine.submit(getitem, s, 2, key="summary")
                                    for s in stepped.values()], f"round {len(history) + 1}")
-        outbox = {t: engine.submit(_item, s, 1, key="outbox") for t, s in stepped.items()}
+        outbox = {t: engine.submit(getitem, s, 1, key="outbox") for t, s in stepped.items()}
         for t, s in stepped.items():
-            state[t] = engine.submit(_item, s, 0, key="state")
+            state[t] = engine.submit(getitem, s, 0, key="state")
         senders = {}
         for s in summaries:
             for j in s["sent"]:
@@ -191,12 +176,41 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
     duplicate_of = np.arange(n, dtype=np.int64)
     for dup, rep in (f[1] for f in finished):
         duplicate_of[dup] = rep
-    if points is None or isinstance(points, (str, list, tuple)) or not isinstance(
-            points, np.ndarray):
+    if not isinstance(points, np.ndarray):  # files, a dask array, or array-like rows
         points = np.concatenate([np.asarray(p) for p in engine.gather(
             [engine.submit(sources.read, kind, what, key="read") for kind, what, _ in chunk_list])]
             + [np.empty((0, 2))])
     return assemble(points, simplices, duplicate_of, result_stats)
+
+
+def _measure(chunk_list, engine):
+    """The first pass: (chunk start rows, the exact power of two that brings
+    every coordinate into the predicates' window, a seeded sample scaled by
+    it)."""
+    starts = np.concatenate(([0], np.cumsum([c[2] for c in chunk_list]))).astype(np.int64)
+    rate = min(1.0, SAMPLE_SIZE / max(int(starts[-1]), 1))
+    stats = engine.gather([engine.submit(partition.chunk_stats, kind, what, int(s), rate, SEED,
+                                         key="measure")
+                           for (kind, what, _), s in zip(chunk_list, starts)], "measure")
+    for (kind, what, expected), st in zip(chunk_list, stats):
+        if st[0] != expected:
+            raise ValueError(f"a {kind} chunk changed while being read: {expected} rows "
+                             f"announced, {st[0]} read")
+    scale_exp = window_exponent(max(s[1] for s in stats), min(s[2] for s in stats),
+                                MAX_EXP, MIN_ULP_EXP)
+    sample = np.concatenate([s[3] for s in stats] + [np.empty((0, 2))]) * 2.0 ** scale_exp
+    return starts, scale_exp, sample
+
+
+def _tiles(chunk_list, starts, scale_exp, nodes, T, engine):
+    """The second pass: (each tile's local points as a future, the cut
+    chunks, to release once the tiles no longer need them)."""
+    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T, key="cut")
+            for (kind, what, _), s in zip(chunk_list, starts)]
+    local = [engine.submit(partition.gather_tile,
+                           *[engine.submit(partition.piece, c, t, key="piece") for c in cuts],
+                           key=f"tile-{t}") for t in range(T)]
+    return local, cuts
 
 
 class Tiles(list):
@@ -206,14 +220,6 @@ class Tiles(list):
     def __init__(self, paths, *, n, stats):
         super().__init__(paths)
         self.n, self.stats = n, stats
-
-
-def _box(local):
-    return local["box"]
-
-
-def _item(result, i):
-    return result[i]
 
 
 def assemble(points, simplices, duplicate_of, stats):
@@ -292,24 +298,14 @@ def verify_on(result, chunk_list, engine):
     """``verify`` on an engine (lfqt.distributed.engine)."""
     from ..verification import VerifyReport
     from . import check as ck
-    rows = [c[2] for c in chunk_list]
-    starts = np.concatenate(([0], np.cumsum(rows))).astype(np.int64)
-    n = int(starts[-1])
-    rate = min(1.0, SAMPLE_SIZE / max(n, 1))
-    stats = engine.gather([engine.submit(partition.chunk_stats, kind, what, int(s), rate, SEED)
-                           for (kind, what, _), s in zip(chunk_list, starts)], "measure")
-    scale_exp = window_exponent(max(s[1] for s in stats), min(s[2] for s in stats),
-                                MAX_EXP, MIN_ULP_EXP)
+    starts, scale_exp, sample = _measure(chunk_list, engine)
     # 4: distinct points, counted tile by tile (equal points share a tile)
-    sample = np.concatenate([s[3] for s in stats] + [np.empty((0, 2))]) * 2.0 ** scale_exp
-    T = partition.auto_tiles(n, engine.workers)
+    T = partition.auto_tiles(int(starts[-1]), engine.workers)
     nodes, _ = partition.kd_tree(sample, T)
-    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T)
-            for (kind, what, _), s in zip(chunk_list, starts)]
-    distinct = sum(engine.gather([engine.submit(ck.tile_distinct, engine.submit(
-        partition.gather_tile, *[engine.submit(partition.piece, c, t) for c in cuts]))
-        for t in range(T)], "distinct points"))
-    engine.release(cuts)
+    local, cuts = _tiles(chunk_list, starts, scale_exp, nodes, T, engine)
+    distinct = sum(engine.gather([engine.submit(ck.tile_distinct, loc) for loc in local],
+                                 "distinct points"))
+    engine.release(cuts + local)
 
     shares = _shares(result, engine)
     reqs = [engine.submit(ck.requests, kind, what, starts) for kind, what in shares]
@@ -325,11 +321,11 @@ def verify_on(result, chunk_list, engine):
         for k, v in d.items():
             counts[k] = counts.get(k, 0) + int(v)
 
-    for c in engine.gather([engine.submit(_item, x, 0) for x in checked], "check shares"):
+    for c in engine.gather([engine.submit(getitem, x, 0) for x in checked], "check shares"):
         add(c)
-    used = engine.gather([engine.submit(_item, f, 1) for f in found])
+    used = engine.gather([engine.submit(getitem, f, 1) for f in found])
     border_counts, H = engine.gather([engine.submit(ck.check_border, *[
-        engine.submit(_item, x, 1) for x in checked])])[0]
+        engine.submit(getitem, x, 1) for x in checked])])[0]
     add(border_counts)
     if counts["triangles"]:
         add({"points_outside_hull": sum(engine.gather([

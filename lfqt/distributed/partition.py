@@ -35,13 +35,17 @@ def kd_tree(sample, tiles):
     nodes, cells = [], np.empty((tiles, 4))
     inf = np.inf
 
+    def leaf(me, k, first, box):
+        """One tile for the whole box; the others of its k stay empty."""
+        cells[first] = box
+        cells[first + 1:first + k] = (inf, inf, -inf, -inf)
+        return me
+
     def split(pts, k, first, box):
         me = len(nodes)
         nodes.append([0, 0.0, -first - 1, -first - 1])
         if k == 1 or len(pts) < 2:
-            for t in range(first, first + k):  # extra tiles of a tiny sample stay empty
-                cells[t] = box if t == first else (inf, inf, -inf, -inf)
-            return me
+            return leaf(me, k, first, box)
         kl = k // 2
         ext = pts.max(0) - pts.min(0)
         for axis in np.argsort(-ext, kind="stable"):
@@ -49,11 +53,8 @@ def kd_tree(sample, tiles):
             cut = vals[min(len(vals) - 1, len(vals) * kl // k)]
             if cut > vals[0]:
                 break
-        else:
-            cells[first] = box
-            for t in range(first + 1, first + k):
-                cells[t] = (inf, inf, -inf, -inf)
-            return me
+        else:  # every sampled point equal
+            return leaf(me, k, first, box)
         low = pts[:, axis] < cut
         lbox, hbox = list(box), list(box)
         lbox[2 + axis], hbox[axis] = cut, cut
