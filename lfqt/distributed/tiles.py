@@ -46,7 +46,7 @@ def _mesh(local, state, keep=None):
     return P, gid, home, triangulate(P, threads=1, counters=False)
 
 
-def _receive(state, inbox, me):
+def _receive(state, inbox):
     """state with the inbox's new foreign points added."""
     if not inbox:
         return state
@@ -134,17 +134,14 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
     hull = near is None
     if near is not None:
         boxes = np.where(near[:, None], boxes, np.nan)
-    state = _receive(state, inbox, me)
+    state = _receive(state, inbox)
     P, gid, home, tri = _mesh(local, state, state["keep"])
     groups = None if tri.degenerate else _face_groups(tri, P)
     n_local = int(np.count_nonzero(home < 0))
-    if state["frontier"] is not None:
-        frontier = np.concatenate((state["frontier"], np.ones(len(state["ids"]), dtype=bool)))
-    else:  # a full triangulation: every face is real, every vertex may send
-        frontier = np.ones(len(P), dtype=bool)
-    v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, frontier, hull)
+    v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, _frontier(state, len(P)),
+                             hull)
     if state["frontier"] is None and not tri.degenerate:
-        state = _seal(state, P, gid, home, tri, groups, inside)
+        state = _seal(state, P, gid, home, tri, groups, inside, n_local)
         if out is not None:
             from pathlib import Path
             path = Path(out) / f"tile-{me:05d}.interior.npy"
@@ -169,13 +166,28 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
     return state, outbox, summary
 
 
-def _seal(state, P, gid, home, tri, groups, inside):
+def _frontier(state, n):
+    """Per vertex of the tile's mesh (n of them, local first): may its star
+    still change?  All of them until the tile is sealed; foreign points
+    always."""
+    if state["frontier"] is None:
+        return np.ones(n, dtype=bool)
+    return np.concatenate((state["frontier"], np.ones(n - len(state["frontier"]), dtype=bool)))
+
+
+def _duplicates(tri, gid, n_local):
+    """(ids of the local points that duplicate another, the ids that
+    represent them): lfqt keeps the smallest index, here the smallest id."""
+    dup = np.flatnonzero(tri.duplicate_of[:n_local] != np.arange(n_local))
+    return gid[dup], gid[tri.duplicate_of[dup]]
+
+
+def _seal(state, P, gid, home, tri, groups, inside, n_local):
     """After the tile's first full triangulation: the local points whose
     star may still change (``frontier``), the points later rounds need
     (those and their neighbours: no local edge ever appears later, so the
     stars of the frontier stay whole), the duplicates, and the owned
     triangles of the final faces, which no later round recomputes."""
-    n_local = int(np.count_nonzero(home < 0))
     S = tri.simplices
     face, order, starts = groups
     roots = face[order[starts[:-1]]]
@@ -185,10 +197,9 @@ def _seal(state, P, gid, home, tri, groups, inside):
                              n_local)
     keep = np.flatnonzero(geometry.with_neighbours(S, live))
     frontier = np.concatenate((live, np.ones(len(P) - n_local, dtype=bool)))
-    dup = np.flatnonzero(tri.duplicate_of[:n_local] != np.arange(n_local))
     interior = geometry.owned(_cut(tri, P, gid, groups), gid, home, frontier, True)
-    return dict(state, keep=keep, frontier=live[keep], interior=interior, dup=gid[dup],
-                rep=gid[tri.duplicate_of[dup]])
+    dup, rep = _duplicates(tri, gid, n_local)
+    return dict(state, keep=keep, frontier=live[keep], interior=interior, dup=dup, rep=rep)
 
 
 def _cut(tri, P, gid, groups):
@@ -222,13 +233,10 @@ def finish(me, local, state, out=None, fmt="npy"):
     sealed interior from the first round, the rest from the points kept.
     Returns the (m, 3) global ids, or with ``out`` the path written."""
     P, gid, home, tri = _mesh(local, state, state["keep"])
+    frontier = _frontier(state, len(P))
     if state["frontier"] is None:  # never sealed: degenerate all along
-        frontier = np.ones(len(P), dtype=bool)
-        state = dict(state, interior=np.empty((0, 3), dtype=np.int64),
-                     dup=gid[tri.duplicate_of != np.arange(len(P))],
-                     rep=gid[tri.duplicate_of[tri.duplicate_of != np.arange(len(P))]])
-    else:
-        frontier = np.concatenate((state["frontier"], np.ones(len(state["ids"]), dtype=bool)))
+        dup, rep = _duplicates(tri, gid, int(np.count_nonzero(home < 0)))
+        state = dict(state, interior=np.empty((0, 3), dtype=np.int64), dup=dup, rep=rep)
     rest = (np.empty((0, 3), dtype=np.int64) if tri.degenerate else
             geometry.owned(_cut(tri, P, gid, _face_groups(tri, P)), gid, home, frontier,
                            False))
