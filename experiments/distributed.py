@@ -151,11 +151,8 @@ def measure(args, out_dir, command):
     log = out_dir / "cells.jsonl"
     if args.force and log.exists():
         log.unlink()
-    done = {}
-    if log.exists():
-        for line in log.read_text().splitlines():
-            rec = json.loads(line)
-            done[tuple(rec["key"])] = rec["rows"]
+    done = {k: rec["rows"] for k, rec in results.read_log(log, lambda rec: (
+        rec["key"][0], int(rec["key"][1]))).items()}
     cells = _cells(args)
     todo = [c for c in cells if c not in done]
     meta = dict(experiment="distributed", command=command, scale=args.scale,
@@ -170,10 +167,8 @@ def measure(args, out_dir, command):
         for cell in todo:
             print(f"[distributed] {cell[0]} {cell[1]:,}", file=sys.stderr)
             rows = measure_one(*cell, args.repeats, scratch, progress=not args.quiet)
-            with open(log, "a") as f:
-                f.write(json.dumps({"key": list(cell), "rows": rows}) + "\n")
-                f.flush()
-                os.fsync(f.fileno())
+            with open(log, "a+") as f:
+                results.append_log(f, {"key": list(cell), "rows": rows})
             done[cell] = rows
     finally:
         if not args.data:

@@ -34,6 +34,33 @@ def atomic_write(path, text):
     os.replace(tmp, path)
 
 
+def read_log(path, key):
+    """{key(record): record} of a sweep's JSON-lines log (cells.jsonl); a
+    line cut by a crash is left out, so its cell is measured again."""
+    done = {}
+    if Path(path).exists():
+        for line in Path(path).read_text().splitlines():
+            try:
+                rec = json.loads(line)
+                done[key(rec)] = rec
+            except (json.JSONDecodeError, KeyError, TypeError):
+                continue
+    return done
+
+
+def append_log(f, record):
+    """Append one record to a log open with mode "a+" and sync it: a
+    finished cell survives a crash of what follows.  After a line cut by a
+    crash, the record starts a line of its own."""
+    f.flush()
+    size = os.fstat(f.fileno()).st_size
+    if size and os.pread(f.fileno(), 1, size - 1) != b"\n":
+        f.write("\n")
+    f.write(json.dumps(record, default=float) + "\n")
+    f.flush()
+    os.fsync(f.fileno())
+
+
 def rows_for(cell, experiment, outcome):
     """The tidy rows of one measured cell: one per timed repeat, or one row
     with the failure's status and reason."""

@@ -13,7 +13,6 @@ finished; ``results.csv`` is rewritten atomically from that log, with the
 metadata sidecar (experiments.machine).
 """
 import json
-import os
 import sys
 import time
 from dataclasses import asdict, dataclass, fields, replace
@@ -97,15 +96,7 @@ def peer_builds(names):
 
 def _done(log):
     """{cell key: record} of a log; a line cut by a crash is measured again."""
-    done = {}
-    if log.exists():
-        for line in log.read_text().splitlines():
-            try:
-                rec = json.loads(line)
-                done[Cell.from_record(rec["cell"]).key] = rec
-            except (json.JSONDecodeError, KeyError, TypeError):
-                continue
-    return done
+    return results.read_log(log, lambda rec: Cell.from_record(rec["cell"]).key)
 
 
 def _progress(experiment, total):
@@ -146,7 +137,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
                 **machine_info())
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = _progress(experiment, len(todo)) if progress and todo else None
-    with open(log, "a") as f:
+    with open(log, "a+") as f:
         for cell in todo:
             if bar:
                 bar.set_postfix_str(cell.label())
@@ -154,9 +145,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
             outcome = ({"status": "skipped", "detail": reason} if reason else
                        measure_cell(cell, 1 if cell.count else repeats, timeout))
             rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome}
-            f.write(json.dumps(rec, default=float) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
+            results.append_log(f, rec)
             done[cell.key] = rec
             if bar:
                 bar.update(1)

@@ -260,6 +260,8 @@ def test_distributed_measures_checks_and_resumes(tmp_path, capsys):
     assert c["received_max"] > 0 and len(c["peak_rss_per_worker"]) == c["workers"]
     assert "uniform" in capsys.readouterr().out
     assert (tmp_path / "smoke" / "figures" / "distributed.png").stat().st_size > 20000
+    with open(out / "cells.jsonl", "a") as f:
+        f.write('{"key": ["uniform", 1000')  # a line cut by a crash
     log = (out / "cells.jsonl").read_text()
     assert distributed.EXPERIMENT.main(args) == 0  # resumes: nothing measured again
     assert (out / "cells.jsonl").read_text() == log

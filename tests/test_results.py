@@ -45,3 +45,15 @@ def test_rows_load_typed_and_summaries_pool_rounds(tmp_path):
     assert theirs["status"] == "timeout" and theirs["median"] is None
     assert results.cell(s, "cgal-dt2", "uniform", 1000, False) == {}
     assert results.fmt_ratio(results.ratio(None, 1.0)) == "-"
+
+
+def test_a_log_line_cut_by_a_crash_is_skipped_and_the_next_record_survives(tmp_path):
+    log = tmp_path / "cells.jsonl"
+    with open(log, "a+") as f:
+        results.append_log(f, {"key": "a", "v": 1})
+        f.write('{"key": "b", "v"')  # the crash
+    with open(log, "a+") as f:
+        results.append_log(f, {"key": "c", "v": 3})
+    done = results.read_log(log, lambda rec: rec["key"])
+    assert {k: r["v"] for k, r in done.items()} == {"a": 1, "c": 3}
+    assert results.read_log(tmp_path / "missing.jsonl", lambda rec: rec["key"]) == {}
