@@ -160,6 +160,7 @@ def fig4_rates(res):
     last = "L3" if "L3" in caches else "L2"
     beyond = [n for n in sizes if n * 64 > 2 * caches.get(last, 32 * 2 ** 20)]
     past_l2 = [n for n in sizes if n * 64 > 2 * caches.get("L2", 2 ** 20)]
+    orders = np.log10(sizes[-1] / sizes[0]) if sizes else 0.0  # of the sizes measured
 
     def spans(ns):
         """{set: relative spread of its rate over the sizes of ns it has (2 or more)}."""

@@ -111,3 +111,13 @@ def test_distributed_row_needs_exact_results_and_the_memory_bound(tmp_path):
     assert _distributed(tmp_path, equal=False).verdict == report.FAILS
     assert _distributed(tmp_path, verified=False).verdict == report.FAILS
     assert _distributed(tmp_path, peak=9 * 2**30).verdict == report.FAILS
+
+
+def test_flat_rate_past_the_last_cache_counts_the_orders_of_magnitude(tmp_path):
+    # no cache sizes recorded: the last level is L2 of 32 MiB, passed from 1,048,577 points
+    sizes = (1_000, 2_000_000, 4_000_000)
+    _store(tmp_path, "fig4", {("lfqt-dc", "uniform", n): n * 1e-7 for n in sizes})
+    row = report.fig4_rates(report.Results(tmp_path))[0]
+    assert row.verdict == report.PARTLY and "3.6 orders of magnitude" in row.ours
+    _store(tmp_path, "fig4", {("lfqt-dc", "uniform", n): n * 1e-7 * (n / 1e6) for n in sizes})
+    assert report.fig4_rates(report.Results(tmp_path))[0].verdict == report.FAILS
