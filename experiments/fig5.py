@@ -12,7 +12,6 @@ import sys
 
 import numpy as np
 
-from . import results
 from .experiment import Experiment, figure_paths, many_threads
 from .runner import Cell
 

@@ -9,8 +9,6 @@ per order.  A run past the scale's cell limit (30 min at the paper scale, as
 the paper's abort) is recorded as an abort, not an error."""
 import sys
 
-import numpy as np
-
 import generators
 
 from . import liu, results
