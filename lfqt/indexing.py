@@ -15,8 +15,3 @@ def u(i):
     """``i`` (non-negative) as an unsigned index."""
     return np.uint64(i)
 
-
-@njit(cache=True, inline="always")
-def div3(e):
-    """e // 3 for non-negative e, without floor-division fix-ups."""
-    return np.int64(np.uint64(e) // np.uint64(3))

@@ -18,7 +18,7 @@ from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import Workers
 from . import bins, hybrid, output, subdivide
-from .layout import PART, SINGLE, UNUSED, XMAX, XMIN, Mesh
+from .layout import PART, SINGLE, UNUSED, XMAX, XMIN, Mesh, t_dtype
 from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
@@ -125,7 +125,7 @@ def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):
     the sorted keys and points, with T filled with UNUSED."""
     n = P.shape[0]
     idx = perm.dtype
-    T = np.empty(6 * max(2 * (n - 1), 0), dtype=idx)
+    T = np.empty(6 * max(2 * (n - 1), 0), dtype=t_dtype(n))
     workers.map(workers.chunks(len(T)), lambda c, lo, hi: output.fill(T, UNUSED, lo, hi))
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)

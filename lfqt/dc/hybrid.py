@@ -28,7 +28,7 @@ from .. import orders
 from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
-from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, less, slot
+from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, edge, less, slot
 
 ORDERS = ("hilbert", "kdtree")
 
@@ -74,7 +74,7 @@ def fill_bin(C, N, alive, ids, slots, P, T, ghost_out, part):
             t2 = tslot[N[c, (i + 2 + rot[c]) % 3]]
             for j in range(3):
                 if T[slot(t2, j)] == b and T[slot(t2, (j + 1) % 3)] == a:
-                    T[slot(t, 3 + i)] = 3 * t2 + j
+                    T[slot(t, 3 + i)] = edge(t2, j)
     v0 = ids[0]
     for j in range(SINGLE):
         part[j] = v0

@@ -2,14 +2,20 @@
 
 One int array ``T`` holds 6 entries per triangle: ``T[6t + i]`` (i = 0, 1, 2)
 are its vertices, counter-clockwise, and ``T[6t + 3 + i]`` the twin of its
-half-edge ``3t + i``, which runs from vertex i to vertex i+1::
+half-edge ``4t + i``, which runs from vertex i to vertex i+1::
 
               v2
              /  ^
-      3t+2  /    \\  3t+1          half-edge 3t+i: v_i -> v_(i+1)
-           v      \\               twin(3t+i) = T[6t + 3 + i]
+      4t+2  /    \\  4t+1          half-edge 4t+i: v_i -> v_(i+1)
+           v      \\               twin(4t+i) = T[6t + 3 + i]
           v0 ----> v1
-              3t+0
+              4t+0
+
+A half-edge id keeps its triangle in the high bits and its edge in the two
+low ones, so that the pointer chasing of a merge finds a triangle with a
+shift and an edge with a mask (``tri``, ``nxt``, ``prv``); with ``3t + i``
+each step was a division by 3, a multiply-high on the critical path.  The
+ids run to 8n for n points, which sizes T's dtype (``t_dtype``).
 
 Vertices and twins of a triangle share a cache line, which halves the misses
 of the pointer chasing in a merge.  Vertex ids are positions in Morton order.
@@ -41,6 +47,11 @@ STACK = 160  # partitions open at once: the quad-tree is at most 128 levels deep
 Mesh = namedtuple("Mesh", "P T ghost_out fmt level_filter")
 
 
+def t_dtype(n):
+    """The dtype of T for n points: its half-edge ids reach 4 * 2(n - 1) + 3."""
+    return np.int32 if 8 * n + 8 < 2 ** 31 else np.int64
+
+
 @njit(cache=True, inline="always")
 def slot(t, i):
     """Index in T of entry i of triangle t (0-2 vertices, 3-5 twins)."""
@@ -48,22 +59,34 @@ def slot(t, i):
 
 
 @njit(cache=True, inline="always")
+def edge(t, i):
+    """The id of half-edge i of triangle t."""
+    return 4 * t + i
+
+
+@njit(cache=True, inline="always")
+def tri(e):
+    """The triangle of half-edge e (non-negative)."""
+    return np.int64(np.uint64(e) >> np.uint64(2))
+
+
+@njit(cache=True, inline="always")
 def nxt(e):
     """The half-edge after e in its triangle (branch-free)."""
-    return e + 1 - 3 * (np.uint64(e) % np.uint64(3) == np.uint64(2))
+    return e + 1 - 3 * ((e & 3) == 2)
 
 
 @njit(cache=True, inline="always")
 def prv(e):
     """The half-edge before e in its triangle (branch-free)."""
-    return e - 1 + 3 * (np.uint64(e) % np.uint64(3) == np.uint64(0))
+    return e - 1 + 3 * ((e & 3) == 0)
 
 
 @njit(cache=True, inline="always")
 def origin(e):
-    """Index in T of the origin vertex of half-edge e (3t + i -> 6t + i)."""
+    """Index in T of the origin vertex of half-edge e (4t + i -> 6t + i)."""
     v = np.uint64(e)
-    return v + np.uint64(3) * (v // np.uint64(3))
+    return np.uint64(6) * (v >> np.uint64(2)) + (v & np.uint64(3))
 
 
 @njit(cache=True, inline="always")
@@ -73,10 +96,18 @@ def twin(e):
 
 
 @njit(cache=True, inline="always")
-def link(T, a, b):
-    """Make half-edges a and b each other's twin."""
-    T[twin(a)] = b
-    T[twin(b)] = a
+def link(T, t, i, b):
+    """Make edge i of triangle t and the half-edge b each other's twin.
+    Taking the known edge as (t, i) spares the decoding of an id."""
+    T[slot(t, 3 + i)] = b
+    T[twin(b)] = edge(t, i)
+
+
+@njit(cache=True, inline="always")
+def link_edges(T, t, i, w, j):
+    """Make edge i of triangle t and edge j of triangle w each other's twin."""
+    T[slot(t, 3 + i)] = edge(w, j)
+    T[slot(w, 3 + j)] = edge(t, i)
 
 
 @njit(cache=True, inline="always")

@@ -18,12 +18,12 @@ quad-tree level, and counted in ``counts`` (lfqt.predicates.counters).
 import numpy as np
 from numba import njit
 
-from ..indexing import div3, u
+from ..indexing import u
 from ..predicates.counters import INCIRCLE, ORIENT, tally
 from ..predicates.levels import binade, level_bounds
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
-from .layout import (GHOST, PART, SINGLE, STACK, XMAX, XMIN, YMAX, YMIN, less, link, nxt, origin,
-                     prv, set_triangle, slot, twin)
+from .layout import (GHOST, PART, SINGLE, STACK, XMAX, XMIN, YMAX, YMIN, less, link, link_edges,
+                     nxt, origin, prv, set_triangle, slot, tri, twin)
 from .subdivide import ALT_X
 
 
@@ -33,14 +33,6 @@ def _orient(P, a, b, c, bound):
     stage that decided it."""
     return orient2d_staged(P[u(a), 0], P[u(a), 1], P[u(b), 0], P[u(b), 1], P[u(c), 0],
                            P[u(c), 1], bound)
-
-
-@njit(cache=True, inline="always")
-def _incircle(P, a, b, c, d, bound):
-    """Exact in-circle of d against the counter-clockwise a, b, c (> 0:
-    inside), and the stage that decided it."""
-    return incircle_staged(P[u(a), 0], P[u(a), 1], P[u(b), 0], P[u(b), 1], P[u(c), 0],
-                           P[u(c), 1], P[u(d), 0], P[u(d), 1], bound)
 
 
 @njit(cache=True, inline="always")
@@ -56,7 +48,7 @@ def _splice(T, A, B, l, r):
     """
     set_triangle(T, A, l, r, GHOST)
     set_triangle(T, B, r, l, GHOST)
-    link(T, 3 * A, 3 * B)
+    link_edges(T, A, 0, B, 0)
 
 
 @njit(cache=True, inline="always")
@@ -64,13 +56,12 @@ def _splice_side(T, A, B, g, s):
     """Join A and B to the ghost ring of side s (0: left, at l; 1: right, at
     r) through its ghost g at the tangent's end; g < 0 for a single vertex,
     where A and B close on each other."""
-    a_edge = 3 * A + 2 - s  # A's edge at that end
-    b_edge = 3 * B + 1 + s  # B's
+    # A's edge at that end is 2 - s, B's is 1 + s
     if g < 0:
-        link(T, a_edge, b_edge)
+        link_edges(T, A, 2 - s, B, 1 + s)
     else:
-        link(T, a_edge, T[slot(g, 5 - s)])
-        link(T, b_edge, 3 * g + 2 - s)
+        link(T, A, 2 - s, T[slot(g, 5 - s)])
+        link_edges(T, B, 1 + s, g, 2 - s)
 
 
 @njit(cache=True, inline="always")
@@ -86,18 +77,18 @@ def _flip_ghost(T, g, e, x):
            q --e-> p     =>       q  |  p      (edge q-p is gone; the hull
              g (ghost)             tt | g       now runs q -> x -> p)
     """
-    tt = div3(e)
+    tt = tri(e)
     t_px = T[twin(nxt(e))]  # twin of p -> x
     t_xq = T[twin(prv(e))]  # twin of x -> q
     g1 = T[slot(g, 4)]
     g2 = T[slot(g, 5)]
     set_triangle(T, tt, x, T[slot(g, 1)], GHOST)
     set_triangle(T, g, T[slot(g, 0)], x, GHOST)
-    link(T, 3 * tt, t_xq)
-    link(T, 3 * tt + 1, g1)
-    link(T, 3 * tt + 2, 3 * g + 1)
-    link(T, 3 * g, t_px)
-    link(T, 3 * g + 2, g2)
+    link(T, tt, 0, t_xq)
+    link(T, tt, 1, g1)
+    link_edges(T, tt, 2, g, 1)
+    link(T, g, 0, t_px)
+    link(T, g, 2, g2)
     return tt
 
 
@@ -116,9 +107,9 @@ def _cross_edge(T, A, g, l, r, c, s):
     g0 = T[slot(g, 3)]
     a = T[slot(A, 4 + s)]
     set_triangle(T, A, l, r, c)
-    link(T, 3 * A + 1 + s, 3 * g)
-    link(T, 3 * A + 2 - s, g0)
-    link(T, 3 * g + 1 + s, a)
+    link_edges(T, A, 1 + s, g, 0)
+    link(T, A, 2 - s, g0)
+    link(T, g, 1 + s, a)
 
 
 @njit(cache=True, inline="always")
@@ -173,6 +164,8 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
     ghost = np.empty(2, dtype=np.int64)  # the ghost at each end, then next to A
     cand = np.empty(2, dtype=np.int64)   # each side's candidate above the base
     valid = np.empty(2, dtype=np.bool_)
+    cand_x = np.empty(2)                 # and its coordinates
+    cand_y = np.empty(2)
     top = -1
     for i in range(n_in):
         top += 1
@@ -187,11 +180,13 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
             continue
         lt, rt, code = top - 1, top, op & 255
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
-        ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
         end[0] = parts[lt, XMAX if x_split else YMAX]
         end[1] = parts[rt, XMIN if x_split else YMIN]
         single_l, single_r = parts[lt, SINGLE] == 1, parts[rt, SINGLE] == 1
-        ghost[0] = -1 if single_l else div3(T[slot(ghost_out[u(end[0])], 4)])
+        ccwb = iccb = 0.0
+        if not (single_l and single_r):  # two lone vertices: no predicate
+            ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
+        ghost[0] = -1 if single_l else tri(T[slot(ghost_out[u(end[0])], 4)])
         ghost[1] = -1 if single_r else ghost_out[u(end[1])]
         moved = True
         while moved:  # lower common tangent: l walks clockwise, r counter-clockwise
@@ -204,7 +199,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                 tally(counts, ORIENT, st)
                 if o < 0.0:
                     end[s] = c
-                    ghost[s] = div3(T[slot(ghost[s], 4 + s)])
+                    ghost[s] = tri(T[slot(ghost[s], 4 + s)])
                     moved = True
                     break
         A = 2 * ((op >> 8) - 1)
@@ -213,13 +208,19 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
         for s in range(2):
             _splice_side(T, A, B, ghost[s], s)
         l_bottom = end[0]
+        # The base's and the candidates' coordinates stay in registers: the
+        # predicates on the bubble's critical path then load only the point
+        # they test.
+        lx, ly = P[u(end[0]), 0], P[u(end[0]), 1]
+        rx, ry = P[u(end[1]), 0], P[u(end[1]), 1]
         while True:  # the rising bubble
             for s in range(2):
-                g = div3(T[slot(A, 5 - s)])
+                g = tri(T[slot(A, 5 - s)])
                 ok = False
                 if g != B:  # else the side's hull is used up
                     c = T[slot(g, s)]
-                    o, st = _orient(P, end[0], end[1], c, ccwb)
+                    cx, cy = P[u(c), 0], P[u(c), 1]
+                    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb)
                     tally(counts, ORIENT, st)
                     ok = o > 0.0
                     while ok:  # delete edges to c while the next one is in its circle
@@ -227,7 +228,8 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                         x = T[origin(prv(e))]
                         if x == GHOST:
                             break
-                        ic, st = _incircle(P, end[0], end[1], c, x, iccb)
+                        xx, xy = P[u(x), 0], P[u(x), 1]
+                        ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb)
                         tally(counts, INCIRCLE, st)
                         if ic <= 0.0:
                             break
@@ -238,20 +240,27 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                         # c, beyond the deleted edge from the base: strictly
                         # above the base, valid without an orient test (as in
                         # Triangle's merge).
-                        c = x
+                        c, cx, cy = x, xx, xy
                     cand[s] = c
+                    cand_x[s] = cx
+                    cand_y[s] = cy
                 valid[s] = ok
                 ghost[s] = g
             if not valid[0] and not valid[1]:
                 break
             s = 0 if valid[0] else 1
             if valid[0] and valid[1]:
-                ic, st = _incircle(P, cand[0], end[0], end[1], cand[1], iccb)
+                ic, st = incircle_staged(cand_x[0], cand_y[0], lx, ly, rx, ry, cand_x[1],
+                                         cand_y[1], iccb)
                 tally(counts, INCIRCLE, st)
                 s = 1 if ic > 0.0 else 0
             _cross_edge(T, A, ghost[s], end[0], end[1], cand[s], s)
             A = ghost[s]
             end[s] = cand[s]
+            if s == 0:
+                lx, ly = cand_x[0], cand_y[0]
+            else:
+                rx, ry = cand_x[1], cand_y[1]
             set_triangle(T, A, end[0], end[1], GHOST)
         ghost_out[u(l_bottom)] = B
         ghost_out[u(end[1])] = A

@@ -6,8 +6,8 @@ kernel works on an index range, so the pipeline can chunk it over threads.
 import numpy as np
 from numba import njit
 
-from ..indexing import div3, u
-from .layout import slot
+from ..indexing import u
+from .layout import slot, tri
 
 
 @njit(cache=True, nogil=True)
@@ -60,7 +60,7 @@ def write_real(T, newid, perm, simplices, neighbors, lo, hi):
         for i in range(3):
             simplices[u(k), i] = perm[u(T[slot(t, i)])]
             # edge opposite vertex i starts at vertex i+1
-            neighbors[u(k), i] = newid[div3(T[slot(t, 3 + (i + 1) % 3)])]
+            neighbors[u(k), i] = newid[tri(T[slot(t, 3 + (i + 1) % 3)])]
 
 
 @njit(cache=True)
@@ -71,14 +71,14 @@ def hull_loop(T, start_ghost, perm, index_sample):
     g = start_ghost
     while True:
         count += 1
-        g = div3(T[slot(g, 5)])
+        g = tri(T[slot(g, 5)])
         if g == start_ghost:
             break
     out = np.empty(count, dtype=index_sample.dtype)
     g = start_ghost
     for i in range(count):
         out[i] = perm[T[slot(g, 1)]]
-        g = div3(T[slot(g, 5)])
+        g = tri(T[slot(g, 5)])
     return out
 
 

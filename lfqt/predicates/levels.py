@@ -44,7 +44,7 @@ def binade(v, scale_exp, emin):
     return e if e > emin else emin
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def level_bounds(level, coord_bits, exp_bits, mant_bits, ex, ey):
     """Stage-1 bounds (orient, incircle) for predicates on points that share
     every Morton key bit above ``level`` (fqDel section 2.4).
