@@ -227,3 +227,49 @@ def test_binade_matches_frexp(scale_exp, emin):
         assert g == want, (v, g, want)
     # stored values are rescaled into the normal range; a subnormal counts as emin
     assert _binades(np.array([5e-324, -2.0 ** -1030]), scale_exp, emin).tolist() == [emin, emin]
+
+
+@njit(cache=True)
+def _with_and_without_static(pts, ccw, icc):
+    """(orient, in-circle) of the 4 points as (value, stage) pairs, by the
+    dynamic filter alone and with the static bounds of the points' box."""
+    wx = pts[:, 0].max() - pts[:, 0].min()
+    wy = pts[:, 1].max() - pts[:, 1].min()
+    so, si = P.static_bounds(wx, wy, ccw, icc)
+    a, b, c, d = pts[0], pts[1], pts[2], pts[3]
+    o1 = P.orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], ccw)
+    o2 = P.orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], ccw, so)
+    i1 = P.incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1], icc)
+    i2 = P.incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1], icc, si)
+    return o1, o2, i1, i2
+
+
+@st.composite
+def integer_quads(draw):
+    """Four small-integer points times 2**e, from subnormal to huge: near the
+    window's floor the static bound must switch itself off."""
+    e = draw(st.integers(-1074, 900))
+    return [(draw(st.integers(-9, 9)) * 2.0 ** e, draw(st.integers(-9, 9)) * 2.0 ** e)
+            for _ in range(4)]
+
+
+BOUND_PAIRS = [(P.CCW_A, P.ICC_A), (P.CCW_EXACT_DIFF, P.ICC_EXACT_PRODUCTS), (0.0, 0.0)]
+
+
+@given(st.one_of(near_circle(), integer_quads(), near_line().map(lambda t: [*t, t[0]])),
+       st.sampled_from(BOUND_PAIRS))
+def test_static_bounds_decide_only_what_the_dynamic_filter_decides(pts, bounds):
+    """fqDel 2.4's static filter: |det| > static may only decide a call the
+    dynamic test would decide too, so value and deciding stage are the same
+    with and without it (near-degenerate sets put |det| at the error's scale)."""
+    quad = np.array(in_window(*pts), dtype=np.float64)
+    o1, o2, i1, i2 = _with_and_without_static(quad, *bounds)
+    assert o1 == o2 and i1 == i2
+
+
+def test_static_bounds_are_off_where_they_would_leave_the_normal_range():
+    assert P.static_bounds(2.0 ** -240, 2.0 ** -240, P.CCW_A, P.ICC_A)[1] == np.inf
+    o, i = P.static_bounds(2.0 ** 300, 2.0 ** 300, P.CCW_A, P.ICC_A)  # degree 4 overflows
+    assert np.isfinite(o) and i == np.inf
+    o, i = P.static_bounds(1.0, 1.0, P.CCW_A, P.ICC_A)
+    assert o == pytest.approx(2 * P.CCW_A) and i == pytest.approx(12 * P.ICC_A)

@@ -21,18 +21,18 @@ from numba import njit
 from ..indexing import u
 from ..predicates.counters import INCIRCLE, ORIENT, tally
 from ..predicates.levels import binade, level_bounds
-from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
+from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
 from .layout import (GHOST, PART, SINGLE, STACK, XMAX, XMIN, YMAX, YMIN, less, link, link_edges,
                      nxt, origin, prv, set_triangle, slot, tri, twin)
 from .subdivide import ALT_X
 
 
 @njit(cache=True, inline="always")
-def _orient(P, a, b, c, bound):
+def _orient(P, a, b, c, bound, static):
     """Exact orientation of points a, b, c (> 0: counter-clockwise), and the
     stage that decided it."""
     return orient2d_staged(P[u(a), 0], P[u(a), 1], P[u(b), 0], P[u(b), 1], P[u(c), 0],
-                           P[u(c), 1], bound)
+                           P[u(c), 1], bound, static)
 
 
 @njit(cache=True, inline="always")
@@ -124,6 +124,18 @@ def _bounds(P, code, probe, fmt, level_filter):
 
 
 @njit(cache=True, inline="always")
+def _box(P, parts, lt, rt):
+    """Width and height of the box around partitions lt and rt, from their
+    extremes: every point of their merge lies in it (lfqt.predicates.planar.
+    static_bounds)."""
+    x0 = min(P[u(parts[lt, XMIN]), 0], P[u(parts[rt, XMIN]), 0])
+    x1 = max(P[u(parts[lt, XMAX]), 0], P[u(parts[rt, XMAX]), 0])
+    y0 = min(P[u(parts[lt, YMIN]), 1], P[u(parts[rt, YMIN]), 1])
+    y1 = max(P[u(parts[lt, YMAX]), 1], P[u(parts[rt, YMAX]), 1])
+    return x1 - x0, y1 - y0
+
+
+@njit(cache=True, inline="always")
 def _union_extremes(P, parts, lt, rt, x_split):
     """The extremes of the union of partitions lt and rt, into row lt: along
     the split axis each side holds one by construction, across it the larger."""
@@ -183,9 +195,11 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
         end[0] = parts[lt, XMAX if x_split else YMAX]
         end[1] = parts[rt, XMIN if x_split else YMIN]
         single_l, single_r = parts[lt, SINGLE] == 1, parts[rt, SINGLE] == 1
-        ccwb = iccb = 0.0
+        ccwb = iccb = ccws = iccs = 0.0
         if not (single_l and single_r):  # two lone vertices: no predicate
             ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
+            wx, wy = _box(P, parts, lt, rt)
+            ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
         ghost[0] = -1 if single_l else tri(T[slot(ghost_out[u(end[0])], 4)])
         ghost[1] = -1 if single_r else ghost_out[u(end[1])]
         moved = True
@@ -195,7 +209,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                 if ghost[s] < 0:
                     continue
                 c = T[slot(ghost[s], 1 - s)]
-                o, st = _orient(P, end[0], end[1], c, ccwb)
+                o, st = _orient(P, end[0], end[1], c, ccwb, ccws)
                 tally(counts, ORIENT, st)
                 if o < 0.0:
                     end[s] = c
@@ -220,7 +234,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                 if g != B:  # else the side's hull is used up
                     c = T[slot(g, s)]
                     cx, cy = P[u(c), 0], P[u(c), 1]
-                    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb)
+                    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
                     tally(counts, ORIENT, st)
                     ok = o > 0.0
                     while ok:  # delete edges to c while the next one is in its circle
@@ -229,7 +243,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                         if x == GHOST:
                             break
                         xx, xy = P[u(x), 0], P[u(x), 1]
-                        ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb)
+                        ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb, iccs)
                         tally(counts, INCIRCLE, st)
                         if ic <= 0.0:
                             break
@@ -251,7 +265,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
             s = 0 if valid[0] else 1
             if valid[0] and valid[1]:
                 ic, st = incircle_staged(cand_x[0], cand_y[0], lx, ly, rx, ry, cand_x[1],
-                                         cand_y[1], iccb)
+                                         cand_y[1], iccb, iccs)
                 tally(counts, INCIRCLE, st)
                 s = 1 if ic > 0.0 else 0
             _cross_edge(T, A, ghost[s], end[0], end[1], cand[s], s)

@@ -5,7 +5,12 @@ an estimate.  Three stages, named as in Shewchuk's predicates.c:
 
 1. a float filter: ``|det| > bound * permanent`` decides.  The bound is
    Triangle's constant (``CCW_A`` / ``ICC_A``) or the level-dependent bound of
-   the LFQT (lfqt.predicates.levels), passed in by the caller;
+   the LFQT (lfqt.predicates.levels), passed in by the caller.  A caller that
+   knows a bound on the permanent of every call in a batch (the merge: the
+   points of one quad-tree node) passes ``static >= bound * permanent``, and
+   ``|det| > static`` decides before the permanent is computed (fqDel 2.4's
+   static filter; ``static_bounds``).  What it leaves goes on to the dynamic
+   test, so the stage that decides a call is the same with or without it;
 2. ``*_adapt`` stage B: the determinant of the *rounded* coordinate
    differences, computed exactly as an expansion.  It decides when the
    differences were exact or when it clears ``CCW_B`` / ``ICC_B``;
@@ -32,11 +37,11 @@ WORK_SIZE = 512  # doubles of scratch space of incircle's stage B
 
 
 @njit(cache=True, inline="always")
-def orient2d_staged(ax, ay, bx, by, cx, cy, bound):
+def orient2d_staged(ax, ay, bx, by, cx, cy, bound, static=np.inf):
     """(value, stage): value > 0 when a, b, c turn counter-clockwise, < 0
     clockwise, 0 collinear; stage is 0, 1 or 2 for the stage that decided.
-    Scalars only: an array argument on this hot path would cost an atomic
-    reference-count update per call."""
+    ``static``: see the module's stage 1.  Scalars only: an array argument on
+    this hot path would cost an atomic reference-count update per call."""
     acx = ax - cx
     bcx = bx - cx
     acy = ay - cy
@@ -44,12 +49,47 @@ def orient2d_staged(ax, ay, bx, by, cx, cy, bound):
     detleft = acx * bcy
     detright = acy * bcx
     det = detleft - detright
+    if abs(det) > static:
+        return det, 0
     # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
     # random input and cost more than they save.
     detsum = abs(detleft) + abs(detright)
     if abs(det) >= bound * detsum:
         return det, 0
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
+
+
+# Static bounds are switched off (infinite) below this: a product that left
+# the normal range would have lost the relative accuracy the bound relies on.
+STATIC_FLOOR = 2.0 ** -1000
+STATIC_MARGIN = 1.0 + 2.0 ** -20  # covers the roundings of the bound itself
+
+
+@njit(cache=True, inline="always")
+def static_bounds(wx, wy, ccw, icc):
+    """Static stage-1 bounds (orient, in-circle) for calls whose points all lie
+    in a box of width ``wx`` and height ``wy`` (each the rounded difference of
+    two coordinates), given the dynamic bounds ``ccw``/``icc``.
+
+    Rounding is monotone, so every rounded difference in a call is at most
+    wx or wy in magnitude, and so is each rounded product and sum below
+    what the same expression of wx and wy rounds to:
+
+        orient permanent     |acx bcy| + |acy bcx|        <= 2 wx wy
+        in-circle permanent  sum of 3 lifts (<= wx^2 + wy^2)
+                             times 2 cross terms (<= wx wy each)
+                                                          <= 6 (wx^2 + wy^2) wx wy
+
+    which STATIC_MARGIN pads for the roundings of these two lines.  A bound
+    that left the normal range, or overflowed, is switched off."""
+    area = wx * wy
+    o = ccw * (2.0 * area) * STATIC_MARGIN
+    i = icc * (6.0 * (wx * wx + wy * wy) * area) * STATIC_MARGIN
+    if ccw > 0.0 and not (STATIC_FLOOR <= o < np.inf):
+        o = np.inf
+    if icc > 0.0 and not (STATIC_FLOOR <= i < np.inf):
+        i = np.inf
+    return o, i
 
 
 @njit(cache=True)
@@ -89,9 +129,10 @@ def orient2d_exact(ax, ay, bx, by, cx, cy):
 
 
 @njit(cache=True, inline="always")
-def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound):
+def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound, static=np.inf):
     """(value, stage): value > 0 when d lies inside the circle through a, b, c
-    (counter-clockwise), < 0 outside, 0 on it; stage as in orient2d_staged."""
+    (counter-clockwise), < 0 outside, 0 on it; stage and ``static`` as in
+    orient2d_staged."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -109,6 +150,8 @@ def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound):
     clift = cdx * cdx + cdy * cdy
     det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
            + clift * (adxbdy - bdxady))
+    if abs(det) > static:
+        return det, 0
     permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
                  + (abs(cdxady) + abs(adxcdy)) * blift
                  + (abs(adxbdy) + abs(bdxady)) * clift)
