@@ -18,7 +18,7 @@ from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import Workers
 from . import bins, hybrid, output, subdivide
-from .layout import PART, SINGLE, UNUSED, XMAX, XMIN, Mesh, t_dtype
+from .layout import PART, SINGLE, XMAX, XMIN, Mesh, t_dtype
 from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
@@ -122,11 +122,12 @@ def sorted_keys(x, y, workers, idx_dtype):
 
 def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
-    the sorted keys and points, with T filled with UNUSED."""
+    the sorted keys and points.  T is left unwritten: every slot a merge
+    owns is written by it, and the output tells the others by their split
+    position (output.number_real), so no page of T is touched twice."""
     n = P.shape[0]
     idx = perm.dtype
     T = np.empty(6 * max(2 * (n - 1), 0), dtype=t_dtype(n))
-    workers.map(workers.chunks(len(T)), lambda c, lo, hi: output.fill(T, UNUSED, lo, hi))
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
     mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
@@ -177,8 +178,9 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     t_merge = time.perf_counter()
     wide, T, ghost_out, rep = state.wide, state.mesh.T, state.mesh.ghost_out, state.rep
     del state  # frees the points, keys and ops before the output is allocated
+    split = rep if subdivision == "lfqt" else _alternating_splits(rep)
     simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
-        T, ghost_out, rep, perm, root, workers)
+        T, ghost_out, rep, split, perm, root, workers)
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
     subdivide_wall = phases["subdivide_top"] + (0.0 if parallel_run else phases["subdivide_lower"])
@@ -209,16 +211,28 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
                          reason=reason)
 
 
-def _output(T, ghost_out, rep, perm, root, workers):
+def _alternating_splits(rep):
+    """The alternating ablation's merges split at 1 ... distinct - 1 (indices
+    into the distinct vertices), not at run starts: its ``split`` array for
+    output.number_real."""
+    n = len(rep)
+    split = np.arange(n, dtype=np.int64)
+    split[int(np.count_nonzero(rep == split)):] = -1
+    return split
+
+
+def _output(T, ghost_out, rep, split, perm, root, workers):
     """The real triangles in input indices, compacted in parallel, the hull
     loop and duplicate_of: (simplices, neighbors, hull, duplicate_of,
-    n_distinct, reason the set is degenerate or "")."""
+    n_distinct, reason the set is degenerate or ""); ``split`` tells the
+    used slots (output.number_real)."""
     n = len(perm)
     idx = perm.dtype
     nslots = len(T) // 6
     slot_chunks = workers.chunks(nslots)
     newid = np.empty(nslots, dtype=idx)
-    counts = workers.map(slot_chunks, lambda c, lo, hi: output.number_real(T, newid, lo, hi))
+    counts = workers.map(slot_chunks, lambda c, lo, hi: output.number_real(T, split, newid,
+                                                                            lo, hi))
     starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
     if len(slot_chunks) > 1:
         workers.map(slot_chunks, lambda c, lo, hi: output.offset_ids(newid, lo, hi, starts[c]))

@@ -35,7 +35,6 @@ import numpy as np
 from numba import njit
 
 GHOST = -1
-UNUSED = -2
 XMAX, XMIN, YMAX, YMIN, SINGLE = range(5)
 PART = 5  # ints per partition row
 STACK = 160  # partitions open at once: the quad-tree is at most 128 levels deep

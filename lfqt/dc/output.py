@@ -1,5 +1,5 @@
 """Output of the divide and conquer, and the kernels around the pipeline:
-the Morton-order gather of the input, filling T, numbering and writing the
+the Morton-order gather of the input, numbering and writing the
 real triangles in input indices, the hull loop and ``duplicate_of``.  Every
 kernel works on an index range, so the pipeline can chunk it over threads.
 """
@@ -22,19 +22,18 @@ def gather_points(x, y, perm, scale, P, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def fill(arr, value, lo, hi):
-    for i in range(lo, hi):
-        arr[u(i)] = value
-
-
-@njit(cache=True, nogil=True)
-def number_real(T, newid, lo, hi):
+def number_real(T, split, newid, lo, hi):
     """Ids 0, 1, ... for the real (non-ghost, used) triangles of slots
-    [lo, hi), -1 for the others; returns how many are real.  Branch-free:
-    the short-circuit form compiled to a loop five times slower."""
+    [lo, hi), -1 for the others; returns how many are real.  Slots 2(p-1)
+    and 2(p-1)+1 belong to the merge at split position p, and are used iff
+    ``split[p] == p`` (T is never filled: an unused slot holds garbage and
+    is not looked at).  Branch-free: the short-circuit form compiled to a
+    loop five times slower."""
     m = 0
     for t in range(lo, hi):
-        real = (T[slot(t, 0)] >= 0) & (T[slot(t, 1)] >= 0) & (T[slot(t, 2)] >= 0)
+        p = (t >> 1) + 1
+        real = ((split[u(p)] == p) & (T[slot(t, 0)] >= 0) & (T[slot(t, 1)] >= 0)
+                & (T[slot(t, 2)] >= 0))
         newid[u(t)] = m if real else -1
         m += real
     return m
