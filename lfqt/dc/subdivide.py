@@ -30,7 +30,10 @@ def _bsr(x):
 def _diff_bit(hi_a, lo_a, hi_b, lo_b):
     """Highest bit in which two 128-bit keys differ, or -1 when equal.  Keys
     are passed as scalars: array arguments on a hot path cost numba atomic
-    reference counting."""
+    reference counting.  The low words are looked at only when the high
+    words are equal: sorted low words exist only inside runs of equal high
+    words (lfqt.radix.sort_keys128), and so does every caller's ``_has_bit``
+    below bit 64."""
     d = hi_a ^ hi_b
     if d != 0:
         return 64 + _bsr(d)
