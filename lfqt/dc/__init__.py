@@ -18,7 +18,7 @@ from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import Workers
 from . import bins, hybrid, output, subdivide
-from .layout import PART, SINGLE, XMAX, XMIN, Mesh, t_dtype
+from .layout import PART, SINGLE, XMAX, XMIN, Mesh, keep_prefix, new_triangles, t_dtype
 from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
@@ -127,7 +127,7 @@ def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):
     position (output.number_real), so no page of T is touched twice."""
     n = P.shape[0]
     idx = perm.dtype
-    T = np.empty(6 * max(2 * (n - 1), 0), dtype=t_dtype(n))
+    T = new_triangles(6 * max(2 * (n - 1), 0), t_dtype(n))
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
     mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
@@ -143,6 +143,7 @@ def _serial(state, subdivision, counts):
     if subdivision == "alternating" and n:
         ids = np.flatnonzero(state.rep == np.arange(n)).astype(np.int64)
         nops = subdivide.subdivide_alternating(ids, state.mesh.P, state.ops)
+    state.drop_keys()  # peak memory: the keys and T need not coexist
     t1 = time.perf_counter()
     root = np.zeros((1, PART), dtype=np.int64)
     if n:
@@ -176,11 +177,11 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
         root, phases = _serial(state, subdivision, counts)
         n_bins = 1
     t_merge = time.perf_counter()
-    wide, T, ghost_out, rep = state.wide, state.mesh.T, state.mesh.ghost_out, state.rep
-    del state  # frees the points, keys and ops before the output is allocated
-    split = rep if subdivision == "lfqt" else _alternating_splits(rep)
+    wide = state.wide
+    split = state.rep if subdivision == "lfqt" else _alternating_splits(state.rep)
     simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
-        T, ghost_out, rep, split, perm, root, workers)
+        state, split, perm, root, workers)
+    del state, split
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
     subdivide_wall = phases["subdivide_top"] + (0.0 if parallel_run else phases["subdivide_lower"])
@@ -221,30 +222,27 @@ def _alternating_splits(rep):
     return split
 
 
-def _output(T, ghost_out, rep, split, perm, root, workers):
-    """The real triangles in input indices, compacted in parallel, the hull
-    loop and duplicate_of: (simplices, neighbors, hull, duplicate_of,
-    n_distinct, reason the set is degenerate or ""); ``split`` tells the
-    used slots (output.number_real)."""
+def _output(state, split, perm, root, workers):
+    """The real triangles in input indices, the hull loop and duplicate_of:
+    (simplices, neighbors, hull, duplicate_of, n_distinct, reason the set is
+    degenerate or "").  ``split`` tells the used slots (output.mark_real).
+    Takes the mesh out of ``state`` and builds ``neighbors`` in T's own
+    memory (lfqt.dc.output), so that T and a whole result never coexist."""
+    T, ghost_out, rep = state.mesh.T, state.mesh.ghost_out, state.rep
+    state.mesh = state.khi = state.klo = state.ops = state.rep = None  # free P, keys, ops
     n = len(perm)
     idx = perm.dtype
-    nslots = len(T) // 6
-    slot_chunks = workers.chunks(nslots)
-    newid = np.empty(nslots, dtype=idx)
-    counts = workers.map(slot_chunks, lambda c, lo, hi: output.number_real(T, split, newid,
-                                                                            lo, hi))
-    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
-    if len(slot_chunks) > 1:
-        workers.map(slot_chunks, lambda c, lo, hi: output.offset_ids(newid, lo, hi, starts[c]))
-    m = int(starts[-1])
-    simplices = np.empty((m, 3), dtype=idx)
-    neighbors = np.empty((m, 3), dtype=idx)
-    workers.map(slot_chunks, lambda c, lo, hi: output.write_real(T, newid, perm, simplices,
-                                                                 neighbors, lo, hi))
-    del newid
     duplicate_of = np.empty(n, dtype=idx)
     n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
         rep, perm, duplicate_of, lo, hi))))
+    nblocks = -(-(len(T) // 6) // output.BLOCK)
+    chunks = workers.chunks(nblocks)
+    bits = np.empty(nblocks, dtype=np.uint64)
+    counts = np.empty(nblocks, dtype=np.int64)
+    workers.map(chunks, lambda c, lo, hi: output.mark_real(T, split, bits, counts, lo, hi))
+    first = np.zeros(nblocks + 1, dtype=np.int64)
+    np.cumsum(counts, out=first[1:])
+    m = int(first[-1])
     reason = ""
     if m:
         hull = output.hull_loop(T, ghost_out[root[XMIN]], perm, perm[:1])
@@ -255,4 +253,19 @@ def _output(T, ghost_out, rep, split, perm, root, workers):
     else:
         hull = perm[[root[XMIN], root[XMAX]]]
         reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
-    return simplices, neighbors, hull, duplicate_of, n_distinct, reason
+    del ghost_out, rep
+    simplices = np.empty((m, 3), dtype=idx)
+    workers.map(chunks, lambda c, lo, hi: output.write_simplices(T, bits, first, perm, simplices,
+                                                                  lo, hi))
+    lengths = workers.map(chunks, lambda c, lo, hi: output.pack_neighbors(T, bits, first, lo, hi))
+    for (lo, _), length in zip(chunks, lengths):
+        output.move_rows(T, 6 * output.BLOCK * lo, 3 * first[lo], length)
+    return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
+
+
+def _rows(T, m, idx):
+    """The first 3m entries of T as (m, 3) rows of dtype idx: a view whose
+    memory past it is given back (layout.keep_prefix), or a copy when T's
+    dtype is wider than idx (more than 2**28 points)."""
+    rows = keep_prefix(T, 3 * m)
+    return (rows if T.dtype == idx else rows.astype(idx)).reshape(m, 3)

@@ -21,7 +21,11 @@ class State:
 
     @property
     def n(self):
-        return self.klo.shape[0]
+        return self.rep.shape[0]
+
+    def drop_keys(self):
+        """Free the keys once every op is written (the merges read points)."""
+        self.khi = self.klo = None
 
     def subdivide(self, lo, hi, at):
         """Write the ops of keys [lo, hi) from ops[at]; returns the end."""
