@@ -168,23 +168,23 @@ def test_random_uniform_sets_match_between_subdivisions(seed, n):
 
 def algorithm1_ops(keys, lo, hi):
     """fqDel's Algorithm 1 as written (recursive, binary search for the
-    split), on Python ints: post-order ops and representatives."""
-    ops, rep = [], {}
+    split), on Python ints: post-order ops and each split's bit."""
+    ops, bits = [], {}
 
     def node(a, b):
         diff = keys[a] ^ keys[b - 1]
         if diff == 0:
-            rep.update({i: a for i in range(a, b)})
             ops.append(-(a + 1))
             return
         bit = diff.bit_length() - 1
         split = next(i for i in range(a, b) if keys[i] >> bit & 1)
         node(a, split)
         node(split, b)
-        ops.append((split << 8) | bit)
+        ops.append(split)
+        bits[split] = bit
 
     node(lo, hi)
-    return ops, [rep[i] for i in range(lo, hi)]
+    return ops, bits
 
 
 @given(st.lists(st.integers(0, 2 ** 128 - 1) | st.integers(0, 40), min_size=1, max_size=80),
@@ -197,12 +197,16 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     hi = data.draw(st.integers(lo + 1, n))
     khi = np.array([k >> 64 for k in keys], dtype=np.uint64)
     klo = np.array([k & (2 ** 64 - 1) for k in keys], dtype=np.uint64)
+    gaps = np.zeros(n, dtype=np.uint8)
+    subdivide.gap_bits(khi, klo, True, gaps, 0, n)
+    assert [gaps[i] == subdivide.DUP for i in range(1, n)] == \
+        [keys[i] == keys[i - 1] for i in range(1, n)]
     ops = np.zeros(2 * n + 3, dtype=np.int64)
-    rep = np.full(n, -5, dtype=np.int32)
-    end = subdivide.subdivide_lfqt(khi, klo, True, lo, hi, ops, 3, rep)
-    expect_ops, expect_rep = algorithm1_ops(keys, lo, hi)
+    end = subdivide.subdivide_lfqt(gaps, lo, hi, ops, 3)
+    expect_ops, expect_bits = algorithm1_ops(keys, lo, hi)
     assert ops[3:end].tolist() == expect_ops
-    assert rep[lo:hi].tolist() == expect_rep
+    assert {p: int(gaps[p]) for p in expect_bits} == expect_bits  # a split's code is its gap
     if all(k < 2 ** 64 for k in keys):  # 64-bit keys (float32 input)
-        end64 = subdivide.subdivide_lfqt(khi[:0], klo, False, lo, hi, ops, 0, rep)
-        assert ops[:end64].tolist() == expect_ops
+        gaps64 = np.zeros(n, dtype=np.uint8)
+        subdivide.gap_bits(khi[:0], klo, False, gaps64, 0, n)
+        assert gaps64[1:].tolist() == gaps[1:].tolist()

@@ -89,14 +89,25 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
 
 
 def _sorted_points(x, y, scale_exp, workers, idx_dtype):
-    """Phase 1: Morton keys, radix sort, and the points gathered in Morton
-    order as float64 scaled by 2**scale_exp (exact).  Returns (khi, klo,
-    perm, P); khi is empty for 64-bit keys."""
+    """Phase 1: Morton keys, radix sort, the gaps between adjacent keys, and
+    the points gathered in Morton order as float64 scaled by 2**scale_exp
+    (exact).  Returns (khi, klo, gaps, perm, P); khi is empty for 64-bit
+    keys."""
     khi, klo, perm = sorted_keys(x, y, workers, idx_dtype)
+    gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
     P = np.empty((x.shape[0], 2), dtype=np.float64)
     workers.map(workers.chunks(x.shape[0]),
                 lambda c, lo, hi: output.gather_points(x, y, perm, 2.0 ** scale_exp, P, lo, hi))
-    return khi, klo, perm, P
+    return khi, klo, gaps, perm, P
+
+
+def key_gaps(khi, klo, wide, workers):
+    """The uint8 gaps of sorted keys (lfqt.dc.subdivide.gap_bits)."""
+    n = klo.shape[0]
+    gaps = np.empty(n, dtype=np.uint8)
+    workers.map(workers.chunks(n),
+                lambda c, lo, hi: subdivide.gap_bits(khi, klo, wide, gaps, lo, hi))
+    return gaps
 
 
 def sorted_keys(x, y, workers, idx_dtype):
@@ -120,30 +131,35 @@ def sorted_keys(x, y, workers, idx_dtype):
     return khi, klo, perm
 
 
-def _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers):
+def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
     the sorted keys and points.  T is left unwritten: every slot a merge
     owns is written by it, and the output tells the others by their split
-    position (output.number_real), so no page of T is touched twice."""
+    position (output.mark_real), so no page of T is touched twice."""
     n = P.shape[0]
     idx = perm.dtype
     T = new_triangles(6 * max(2 * (n - 1), 0), t_dtype(n))
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
     mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
-    return State(khi, klo, dtype == np.float64, mesh, np.empty(max(2 * n, 1), dtype=np.int64),
-                 np.empty(n, dtype=idx))
+    return State(khi, klo, dtype == np.float64, mesh, np.empty(max(2 * n, 1), dtype=idx), gaps,
+                 gaps)
 
 
 def _serial(state, subdivision, counts):
     """Phases 2 and 3 on one thread: (root partition row, phase seconds)."""
     n = state.n
+    state.drop_keys()  # peak memory: the gaps stand for the keys from here on
     t0 = time.perf_counter()
-    nops = state.subdivide(0, n, 0) if n else 0
+    nops = 0
     if subdivision == "alternating" and n:
-        ids = np.flatnonzero(state.rep == np.arange(n)).astype(np.int64)
-        nops = subdivide.subdivide_alternating(ids, state.mesh.P, state.ops)
-    state.drop_keys()  # peak memory: the keys and T need not coexist
+        starts = state.gaps != subdivide.DUP
+        starts[0] = True
+        state.codes = np.full(n, subdivide.DUP, dtype=np.uint8)
+        nops = subdivide.subdivide_alternating(np.flatnonzero(starts).astype(np.int64),
+                                               state.mesh.P, state.ops, state.codes)
+    elif n:
+        nops = state.subdivide(0, n, 0)
     t1 = time.perf_counter()
     root = np.zeros((1, PART), dtype=np.int64)
     if n:
@@ -158,13 +174,13 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     x, y, scale_exp = coordinates2d(points, workers)
     n = x.shape[0]
     t_validate = time.perf_counter()
-    khi, klo, perm, P = _sorted_points(x, y, scale_exp, workers, index_dtype(n))
+    khi, klo, gaps, perm, P = _sorted_points(x, y, scale_exp, workers, index_dtype(n))
     dtype = x.dtype
     del x, y  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
-    state = _state(P, khi, klo, perm, dtype, scale_exp, level_filter, workers)
-    del P, khi, klo
+    state = _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter)
+    del P, khi, klo, gaps
     counts = new_counters()
     parallel_run = subdivision == "lfqt" and (workers.threads > 1 or hybrid_leaf) and n > 1
     t_alloc = time.perf_counter()
@@ -178,10 +194,9 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
         n_bins = 1
     t_merge = time.perf_counter()
     wide = state.wide
-    split = state.rep if subdivision == "lfqt" else _alternating_splits(state.rep)
     simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
-        state, split, perm, root, workers)
-    del state, split
+        state, perm, root, workers)
+    del state
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
     subdivide_wall = phases["subdivide_top"] + (0.0 if parallel_run else phases["subdivide_lower"])
@@ -212,34 +227,24 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
                          reason=reason)
 
 
-def _alternating_splits(rep):
-    """The alternating ablation's merges split at 1 ... distinct - 1 (indices
-    into the distinct vertices), not at run starts: its ``split`` array for
-    output.number_real."""
-    n = len(rep)
-    split = np.arange(n, dtype=np.int64)
-    split[int(np.count_nonzero(rep == split)):] = -1
-    return split
-
-
-def _output(state, split, perm, root, workers):
+def _output(state, perm, root, workers):
     """The real triangles in input indices, the hull loop and duplicate_of:
     (simplices, neighbors, hull, duplicate_of, n_distinct, reason the set is
-    degenerate or "").  ``split`` tells the used slots (output.mark_real).
+    degenerate or "").
     Takes the mesh out of ``state`` and builds ``neighbors`` in T's own
     memory (lfqt.dc.output), so that T and a whole result never coexist."""
-    T, ghost_out, rep = state.mesh.T, state.mesh.ghost_out, state.rep
-    state.mesh = state.khi = state.klo = state.ops = state.rep = None  # free P, keys, ops
+    T, ghost_out, gaps, codes = state.mesh.T, state.mesh.ghost_out, state.gaps, state.codes
+    state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # free P, ops
     n = len(perm)
     idx = perm.dtype
     duplicate_of = np.empty(n, dtype=idx)
     n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
-        rep, perm, duplicate_of, lo, hi))))
+        gaps, perm, duplicate_of, lo, hi))))
     nblocks = -(-(len(T) // 6) // output.BLOCK)
     chunks = workers.chunks(nblocks)
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
-    workers.map(chunks, lambda c, lo, hi: output.mark_real(T, split, bits, counts, lo, hi))
+    workers.map(chunks, lambda c, lo, hi: output.mark_real(T, codes, bits, counts, lo, hi))
     first = np.zeros(nblocks + 1, dtype=np.int64)
     np.cumsum(counts, out=first[1:])
     m = int(first[-1])
@@ -253,7 +258,7 @@ def _output(state, split, perm, root, workers):
     else:
         hull = perm[[root[XMIN], root[XMAX]]]
         reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
-    del ghost_out, rep
+    del ghost_out, gaps, codes
     simplices = np.empty((m, 3), dtype=idx)
     workers.map(chunks, lambda c, lo, hi: output.write_simplices(T, bits, first, perm, simplices,
                                                                   lo, hi))

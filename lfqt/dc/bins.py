@@ -63,6 +63,7 @@ def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     t0 = time.perf_counter()
     nodes = subdivide_top(state.khi, state.klo, state.wide, state.n,
                           bin_size or bin_size_for(state.n, threads))
+    state.drop_keys()  # the bins subdivide from the gaps
     tree = _Tree(nodes)
     t_top = time.perf_counter() - t0
     lock = threading.Lock()
@@ -94,7 +95,7 @@ def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     def run_merge(k):
         left, right = nodes[k, 4], nodes[k, 5]
         cnt = new_counters()
-        op = np.array([(nodes[k, 2] << 8) | nodes[k, 3]], dtype=np.int64)
+        op = np.array([nodes[k, 2]], dtype=state.ops.dtype)  # its code: gaps[split]
         a = time.perf_counter()
         state.merge(0, 1, cnt, tree.parts[[left, right]], 2, tree.parts[k:k + 1], ops=op)
         add_time("merge_top", time.perf_counter() - a)

@@ -29,6 +29,7 @@ from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
 from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, edge, less, slot
+from .subdivide import DUP
 
 ORDERS = ("hilbert", "kdtree")
 
@@ -101,7 +102,9 @@ def insert_bin(state, lo, hi, order, counts, part):
     the seconds spent building the order."""
     end = state.subdivide(lo, hi, 2 * lo)
     ops = state.ops[2 * lo:end]
-    ids = lo + np.flatnonzero(state.rep[lo:hi] == np.arange(lo, hi, dtype=state.rep.dtype))
+    starts = state.gaps[lo:hi] != DUP
+    starts[0] = True  # a bin starts a run
+    ids = lo + np.flatnonzero(starts)
     t_order = 0.0
     if len(ids) >= 3:
         P = np.ascontiguousarray(state.mesh.P[ids])
@@ -111,7 +114,7 @@ def insert_bin(state, lo, hi, order, counts, part):
         C, N, alive, _, _, cnt, ok = insertion.insert_all(P, 2, perm, hints,
                                                           insertion.coordinate_span(P))
         if ok:
-            p = ops[ops >= 0] >> 8
+            p = ops[ops >= 0]
             slots = np.sort(np.concatenate((2 * (p - 1), 2 * (p - 1) + 1)))
             if fill_bin(C, N, alive, ids.astype(np.int64), slots, state.mesh.P, state.mesh.T,
                         state.mesh.ghost_out, part[0]):

@@ -157,8 +157,9 @@ def _union_extremes(P, parts, lt, rt, x_split):
 
 
 @njit(cache=True, nogil=True)
-def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
-    """Execute ops[op_lo:op_hi] (lfqt.dc.subdivide) on a stack of partitions
+def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
+    """Execute ops[op_lo:op_hi] (lfqt.dc.subdivide; a merge at split position
+    p has its code in ``codes[p]``) on a stack of partitions
     that starts with the ``n_in`` rows of ``parts_in`` (a merge of the upper
     tree pushes its two finished children).  The partitions left on the
     stack (one for a whole subtree) are written to ``parts_out`` and their
@@ -190,7 +191,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                 parts[top, j] = -op - 1
             parts[top, SINGLE] = 1
             continue
-        lt, rt, code = top - 1, top, op & 255
+        lt, rt, code = top - 1, top, np.int64(codes[u(op)])
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
         end[0] = parts[lt, XMAX if x_split else YMAX]
         end[1] = parts[rt, XMIN if x_split else YMIN]
@@ -216,7 +217,7 @@ def run_ops(ops, op_lo, op_hi, mesh, counts, parts_in, n_in, parts_out):
                     ghost[s] = tri(T[slot(ghost[s], 4 + s)])
                     moved = True
                     break
-        A = 2 * ((op >> 8) - 1)
+        A = 2 * (op - 1)
         B = A + 1
         _splice(T, A, B, end[0], end[1])
         for s in range(2):

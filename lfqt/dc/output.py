@@ -21,6 +21,7 @@ from numba import njit
 
 from ..indexing import popcount, u
 from .layout import slot, tri
+from .subdivide import DUP
 
 
 @njit(cache=True, nogil=True)
@@ -38,11 +39,12 @@ BLOCK = 64  # slots per word of the bitmask of real slots
 
 
 @njit(cache=True, nogil=True)
-def mark_real(T, split, bits, counts, blo, bhi):
+def mark_real(T, codes, bits, counts, blo, bhi):
     """bits[b]: bit j set when slot 64b + j is a real triangle, for the blocks
     [blo, bhi); counts[b]: how many are.  Slots 2(p-1) and 2(p-1)+1 belong to
-    the merge at split position p and are used iff ``split[p] == p`` (T is
-    never filled: an unused slot holds garbage and is not looked at).
+    the merge at split position p and are used iff ``codes[p] != DUP``
+    (lfqt.dc.subdivide; T is never filled: an unused slot holds garbage and
+    is not looked at).
     Branch-free: the short-circuit form compiled to a loop five times
     slower."""
     nslots = T.shape[0] // 6
@@ -50,7 +52,7 @@ def mark_real(T, split, bits, counts, blo, bhi):
         word = np.uint64(0)
         for t in range(BLOCK * b, min(BLOCK * b + BLOCK, nslots)):
             p = (t >> 1) + 1
-            real = ((split[u(p)] == p) & (T[slot(t, 0)] >= 0) & (T[slot(t, 1)] >= 0)
+            real = ((codes[u(p)] != DUP) & (T[slot(t, 0)] >= 0) & (T[slot(t, 1)] >= 0)
                     & (T[slot(t, 2)] >= 0))
             word |= np.uint64(real) << np.uint64(t & (BLOCK - 1))
         bits[u(b)] = word
@@ -124,12 +126,17 @@ def hull_loop(T, start_ghost, perm, index_sample):
 
 
 @njit(cache=True, nogil=True)
-def duplicates_into(rep, perm, out, lo, hi):
-    """duplicate_of in input indices from representatives in sorted order;
-    returns how many positions of [lo, hi) represent themselves."""
+def duplicates_into(gaps, perm, out, lo, hi):
+    """duplicate_of in input indices: each position of [lo, hi) points to the
+    first of its run of equal keys (lfqt.dc.subdivide.gap_bits); returns how
+    many positions start a run."""
+    r = lo
+    while r > 0 and gaps[u(r)] == DUP:  # the run that lo is in
+        r -= 1
     distinct = 0
     for i in range(lo, hi):
-        r = rep[u(i)]
+        if i == 0 or gaps[u(i)] != DUP:
+            r = i
+            distinct += 1
         out[u(perm[u(i)])] = perm[u(r)]
-        distinct += r == i
     return distinct

@@ -23,7 +23,7 @@ from numba import njit
 from .. import morton
 from .._input import FORMATS, as_exact_float, index_dtype
 from ..workers import Workers
-from . import sorted_keys, subdivide
+from . import key_gaps, sorted_keys, subdivide
 
 Quadtree = namedtuple("Quadtree", "order nodes")
 Quadtree.__doc__ = """``order``: the input indices in Morton order.  ``nodes``: dict of
@@ -35,9 +35,10 @@ unbounded), ``depth`` (root 0), ``parent`` (-1 at the root), and ``lo``,
 
 
 @njit(cache=True)
-def _decode(ops, nops, n):
+def _decode(ops, nops, n, gaps):
     """(lo, split, hi, bit, parent) of each merge op of a post-order op list
-    (lfqt.dc.subdivide) over n sorted positions, in op order.  A node ends
+    (lfqt.dc.subdivide; a split's bit is its gap) over n sorted positions, in
+    op order.  A node ends
     where the next vertex pushed after it starts (runs of equal keys are one
     vertex), or at n."""
     m = 0
@@ -64,8 +65,8 @@ def _decode(ops, nops, n):
             continue
         top -= 2  # the two children, left at top, right at top + 1
         lo[node] = s_lo[top]
-        split[node] = op >> 8
-        bit[node] = op & 255
+        split[node] = op
+        bit[node] = gaps[op]
         for c in (top, top + 1):
             if s_node[c] >= 0:
                 parent[s_node[c]] = node
@@ -100,10 +101,10 @@ def quadtree(points):
     n = x.shape[0]
     workers = Workers(1)
     khi, klo, perm = sorted_keys(x, y, workers, index_dtype(n))
+    gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
-    rep = np.empty(n, dtype=perm.dtype)
-    nops = subdivide.subdivide_lfqt(khi, klo, x.dtype == np.float64, 0, n, ops, 0, rep)
-    lo, split, hi, bit, parent = _decode(ops, nops, n)
+    nops = subdivide.subdivide_lfqt(gaps, 0, n, ops, 0)
+    lo, split, hi, bit, parent = _decode(ops, nops, n, gaps)
     width, exp_bits, mant_bits, _ = FORMATS[x.dtype]
     u = np.dtype(f"uint{width}")
     first = perm[lo]  # any point of a node carries its prefix

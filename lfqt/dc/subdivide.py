@@ -1,11 +1,19 @@
 """Phase 2 of the divide and conquer: the subdivision (fqDel 3.2, Algorithm 1).
 
+The quad-tree over sorted keys is a property of adjacent keys: ``gaps[i]``
+(``gap_bits``) is the highest bit in which keys i-1 and i differ, the level
+of the split between them, or ``DUP`` when they are equal.  One byte per
+point carries all that the later phases need of the keys, so the keys are
+freed once it and the parallel top levels are computed.
+
 The subdivision writes the quad-tree as a post-order list of ``ops``:
-``-(v+1)`` pushes the single vertex ``v``; ``(p << 8) | code`` merges the two
-partitions on top of the stack, splitting at sorted position ``p``.
-``code < 128`` is the Morton bit of an LFQT split (odd: x-split);
-``ALT_X``/``ALT_Y`` are Triangle-style alternating cuts (the ablation of
-paper section 4.3).
+``-(v+1)`` pushes the single vertex ``v``; ``p >= 1`` merges the two
+partitions on top of the stack, splitting at sorted position ``p``, with
+the split's code in ``codes[p]``.  For the LFQT ``codes`` is ``gaps``
+(``code < 128`` is the Morton bit, odd: x-split); the alternating ablation
+(paper section 4.3) writes its own, ``ALT_X``/``ALT_Y`` for Triangle-style
+cuts, at the positions 1 ... distinct - 1 it numbers its merges with.
+A position p >= 1 owns the triangle slots of a merge iff ``codes[p] != DUP``.
 """
 import numpy as np
 from numba import njit
@@ -16,6 +24,7 @@ from .layout import STACK, less
 
 ALT_X = 128
 ALT_Y = 129
+DUP = 255  # gaps[i]: key i equals key i - 1 (position 0 always starts a run)
 _ONE = np.uint64(1)
 _ZERO = np.uint64(0)
 
@@ -51,49 +60,56 @@ def _has_bit(hi, lo, bit):
 
 
 @njit(cache=True, nogil=True)
-def subdivide_lfqt(khi, klo, wide, lo, hi, ops, nops, rep):
+def gap_bits(khi, klo, wide, gaps, lo, hi):
+    """gaps[i] for i in [lo, hi): the highest bit in which sorted keys i - 1
+    and i differ, or DUP when they are equal (and for i = 0)."""
+    for i in range(lo, hi):
+        if i == 0:
+            gaps[0] = DUP
+            continue
+        if wide:
+            bit = _diff_bit(khi[u(i - 1)], klo[u(i - 1)], khi[u(i)], klo[u(i)])
+        else:
+            bit = _diff_bit(_ZERO, klo[u(i - 1)], _ZERO, klo[u(i)])
+        gaps[u(i)] = DUP if bit < 0 else bit
+
+
+@njit(cache=True, nogil=True)
+def subdivide_lfqt(gaps, lo, hi, ops, nops):
     """Algorithm 1 of fqDel as one sweep: append the post-order ops of the
-    quad-tree over sorted keys [lo, hi) to ``ops`` starting at ``nops``.
-    Runs of equal keys become one vertex; ``rep[i]`` is set to the sorted
-    position that represents position i.  Returns the new op count.
+    quad-tree over sorted positions [lo, hi) to ``ops`` starting at ``nops``;
+    returns the new op count.  Runs of equal keys are one vertex, their
+    first position.
 
     A node splits at the gap where its first and last keys first differ,
     and that gap's highest differing bit is the largest of all gaps in the
-    node, so the quad-tree is the Cartesian tree of the adjacent keys'
-    differing bits.  Its post-order falls out of a stack of open splits, in
-    O(n) and without Algorithm 1's binary search per node; the ops are the
-    same as the recursive form's.
+    node, so the quad-tree is the Cartesian tree of the gaps.  Its
+    post-order falls out of a stack of open splits, in O(n) and without
+    Algorithm 1's binary search per node; the ops are the same as the
+    recursive form's.
     """
     if hi <= lo:
         return nops
     s_split = np.empty(STACK, dtype=np.int64)
     s_bit = np.empty(STACK, dtype=np.int64)
     top = -1  # open splits, bits strictly decreasing upwards
-    run = lo
-    rep[u(lo)] = lo
     ops[u(nops)] = -(lo + 1)
     nops += 1
     for i in range(lo + 1, hi):
-        if wide:
-            bit = _diff_bit(khi[u(i - 1)], klo[u(i - 1)], khi[u(i)], klo[u(i)])
-        else:
-            bit = _diff_bit(_ZERO, klo[u(i - 1)], _ZERO, klo[u(i)])
-        if bit < 0:
-            rep[u(i)] = run
+        bit = np.int64(gaps[u(i)])
+        if bit == DUP:
             continue
         while top >= 0 and s_bit[top] < bit:
-            ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
+            ops[u(nops)] = s_split[top]
             nops += 1
             top -= 1
         top += 1
         s_split[top] = i
         s_bit[top] = bit
-        run = i
-        rep[u(i)] = i
         ops[u(nops)] = -(i + 1)
         nops += 1
     while top >= 0:
-        ops[u(nops)] = (s_split[top] << 8) | s_bit[top]
+        ops[u(nops)] = s_split[top]
         nops += 1
         top -= 1
     return nops
@@ -234,9 +250,11 @@ def _select(ids, lo, hi, k, P, axis):
 
 
 @njit(cache=True)
-def subdivide_alternating(ids, P, ops):
+def subdivide_alternating(ids, P, ops, codes):
     """Triangle's alternating median cuts over distinct vertices ``ids``:
-    fill ``ops`` in post-order and return their count."""
+    fill ``ops`` in post-order and return their count.  A merge is numbered
+    by its cut's index into ``ids`` (1 ... len(ids) - 1), with its axis in
+    ``codes``."""
     n = ids.shape[0]
     _select(ids, 0, n, n >> 1, P, 0)
     s_lo = np.empty(STACK, dtype=np.int64)
@@ -272,7 +290,8 @@ def subdivide_alternating(ids, P, ops):
             top += 1
             s_lo[top], s_hi[top], s_axis[top], s_state[top] = mid, b, child_axis, 0
         else:
-            ops[nops] = (mid << 8) | (ALT_X + s_axis[top])
+            ops[nops] = mid
+            codes[mid] = ALT_X + s_axis[top]
             nops += 1
             top -= 1
     return nops
