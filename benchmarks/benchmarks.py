@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from lfqt.workers import Workers
 
 
 class TimeTriangulate:
-    params = (["uniform", "grid", "cluster"], [10_000, 100_000, 1_000_000])
+    params = (["uniform", "grid", "cluster", "spiral"], [10_000, 100_000, 1_000_000])
     param_names = ["distribution", "n"]
     timeout = 300
 
@@ -66,6 +67,94 @@ class TimeInsert:
     def track_conflicts_per_point(self, order, dist):
         return lfqt.insert(self.points, order=order).stats["per_point"]["conflicts"]
     track_conflicts_per_point.unit = "count"
+
+
+def _best_seconds(fn, repeats):
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+class TrackRate:
+    """Flat rate (performance issue): single-thread points per second, the
+    best of a few runs, on uniform from 10k to 10M (target: within 25% of
+    its maximum) and circle from 1k to 30k (target: within 2x of uniform)."""
+    params = (["uniform", "circle"], [1_000, 10_000, 30_000, 1_000_000, 10_000_000])
+    param_names = ["distribution", "n"]
+    timeout = 600
+
+    def setup(self, dist, n):
+        if (dist == "uniform" and n < 10_000) or (dist == "circle" and n > 30_000):
+            raise NotImplementedError  # outside the target's range
+        self.points = np.array(generators.make(dist, n))
+        lfqt.triangulate(self.points)  # compiled, and the pages are the process's
+
+    def track_rate(self, dist, n):
+        repeats = max(3, min(50, 2_000_000 // n))
+        return n / _best_seconds(lambda: lfqt.triangulate(self.points, threads=1), repeats) / 1e6
+    track_rate.unit = "Mpt/s"
+
+
+class TimeThreads:
+    """Two threads against one (target: at least 1.85x at 1M and 10M, the
+    same triangles)."""
+    params = ([1_000_000, 10_000_000], [1, 2])
+    param_names = ["n", "threads"]
+    timeout = 600
+    number = 1
+    repeat = 3
+
+    def setup(self, n, threads):
+        self.points = np.array(generators.make("uniform", n))
+        lfqt.triangulate(self.points, threads=threads)
+
+    def time_triangulate(self, n, threads):
+        lfqt.triangulate(self.points, threads=threads)
+
+    def track_speedup_over_one_thread(self, n, threads):
+        one = _best_seconds(lambda: lfqt.triangulate(self.points, threads=1), 3)
+        return one / _best_seconds(lambda: lfqt.triangulate(self.points, threads=threads), 3)
+    track_speedup_over_one_thread.unit = "x"
+
+
+class TrackMemory:
+    """Peak memory of a whole process that triangulates n uniform points,
+    input and interpreter included, per point (target: at most 120 B/point
+    at 10M)."""
+    params = ([1_000_000, 10_000_000], [1, 2])
+    param_names = ["n", "threads"]
+    timeout = 600
+
+    def track_peak_bytes_per_point(self, n, threads):
+        code = ("import resource, sys, numpy as np, lfqt; n, th = map(int, sys.argv[1:]); "
+                "p = np.random.default_rng(0).random((n, 2)); "
+                "lfqt.triangulate(p, threads=th); "
+                "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / n)")
+        out = subprocess.run([sys.executable, "-c", code, str(n), str(threads)],
+                             capture_output=True, text=True, check=True).stdout
+        return float(out.split()[-1])
+    track_peak_bytes_per_point.unit = "B/point"
+
+
+class TimeInsertLarge:
+    """Kd-order insertion at the performance issue's size: 1M points in the
+    uniform cube (target: CGAL DT3's speed) and the unit square (within 1.2x
+    of CGAL DT2); ratios against CGAL: python -m experiments.bench_insert."""
+    params = (["cube", "uniform"], [1_000_000])
+    param_names = ["distribution", "n"]
+    timeout = 600
+    number = 1
+    repeat = 3
+
+    def setup(self, dist, n):
+        self.points = np.array(generators.make(dist, n))
+        lfqt.insert(self.points[:1000], order="kdtree")
+
+    def time_insert_kdtree(self, dist, n):
+        lfqt.insert(self.points, order="kdtree")
 
 
 class TimeRadix:
