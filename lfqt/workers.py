@@ -20,8 +20,10 @@ class Workers:
         if self.pool:
             self.pool.shutdown(wait=True)
 
-    def chunks(self, n):
-        k = max(1, min(self.threads, n // MIN_CHUNK))
+    def chunks(self, n, min_chunk=MIN_CHUNK):
+        """At most one range of [0, n) per thread, none shorter than
+        ``min_chunk`` items (unless there is just one)."""
+        k = max(1, min(self.threads, n // min_chunk))
         cuts = [n * i // k for i in range(k + 1)]
         return list(zip(cuts[:-1], cuts[1:]))
 

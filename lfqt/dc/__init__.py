@@ -16,7 +16,7 @@ from .. import morton, radix
 from .._input import FORMATS, coordinates2d, index_dtype
 from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
-from ..workers import Workers
+from ..workers import MIN_CHUNK, Workers
 from . import bins, hybrid, output, subdivide
 from .layout import PART, SINGLE, XMAX, XMIN, Mesh, keep_prefix, new_triangles, t_dtype
 from .state import State
@@ -241,10 +241,12 @@ def _output(state, perm, root, workers):
     n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
         gaps, perm, duplicate_of, lo, hi))))
     nblocks = -(-(len(T) // 6) // output.BLOCK)
-    chunks = workers.chunks(nblocks)
+    chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
-    workers.map(chunks, lambda c, lo, hi: output.mark_real(T, codes, bits, counts, lo, hi))
+    workers.map(chunks, lambda c, lo, hi: output.mark_used(codes, bits, counts, lo, hi))
+    if len(T) and not root[SINGLE]:
+        output.clear_ghosts(T, ghost_out[root[XMIN]], bits, counts)
     first = np.zeros(nblocks + 1, dtype=np.int64)
     np.cumsum(counts, out=first[1:])
     m = int(first[-1])
@@ -260,9 +262,11 @@ def _output(state, perm, root, workers):
         reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
     del ghost_out, gaps, codes
     simplices = np.empty((m, 3), dtype=idx)
-    workers.map(chunks, lambda c, lo, hi: output.write_simplices(T, bits, first, perm, simplices,
-                                                                  lo, hi))
-    lengths = workers.map(chunks, lambda c, lo, hi: output.pack_neighbors(T, bits, first, lo, hi))
+    lengths = workers.map(chunks, lambda c, lo, hi: output.write_rows(T, bits, first, perm,
+                                                                      simplices, lo, hi))
+    if min(lengths, default=0) < 0:
+        raise RuntimeError("lfqt internal error: a ghost triangle off the hull ring; please "
+                           "report the input")
     for (lo, _), length in zip(chunks, lengths):
         output.move_rows(T, 6 * output.BLOCK * lo, 3 * first[lo], length)
     return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason

@@ -6,13 +6,16 @@ so the pipeline can chunk it over threads.
 The output is built in T's own memory, so that T and a full copy of the
 result never coexist (peak memory, lfqt.dc._output):
 
-1. ``mark_real``: one bit per real (used, non-ghost) slot, in 64-slot blocks,
-   and each block's count; ``first[b]``, the real slots before block b, then
-   gives a slot its output row with one popcount (``row``);
-2. ``write_simplices``: the vertex rows, in input indices, to a new array;
-3. ``pack_neighbors``: each chunk of blocks writes its neighbour rows at the
-   start of its own part of T.  Row k of a chunk lands at 3k, below the
-   twins of slot k or later that are still to be read (at 6k + 3 or more);
+1. ``mark_used`` and ``clear_ghosts``: one bit per real triangle's slot, in
+   64-slot blocks, and each block's count.  Once the merges are done every
+   used slot holds a real triangle or a ghost of the one hull ring, so the
+   bits come from the merges' codes and a walk of the ring, not from a pass
+   over T.  ``first[b]``, the real slots before block b, then gives a slot
+   its output row with one popcount (``row``);
+2. ``write_rows``: in one pass over T, the vertex rows, in input indices,
+   to a new array, and each chunk of blocks' neighbour rows packed at the
+   start of its own part of T.  Row k of a chunk lands at 3k to 3k + 2,
+   below the slots after k, which are still to be read (at 6k + 6 on);
 4. ``move_rows``: the chunks' rows slide down to their final place, in
    chunk order, each below what is still to move; T is then shrunk to them.
 """
@@ -39,24 +42,33 @@ BLOCK = 64  # slots per word of the bitmask of real slots
 
 
 @njit(cache=True, nogil=True)
-def mark_real(T, codes, bits, counts, blo, bhi):
-    """bits[b]: bit j set when slot 64b + j is a real triangle, for the blocks
-    [blo, bhi); counts[b]: how many are.  Slots 2(p-1) and 2(p-1)+1 belong to
-    the merge at split position p and are used iff ``codes[p] != DUP``
+def mark_used(codes, bits, counts, blo, bhi):
+    """bits[b]: bit j set when slot 64b + j is used, for the blocks [blo,
+    bhi); counts[b]: how many are.  Slots 2(p-1) and 2(p-1)+1 belong to the
+    merge at split position p and are used iff ``codes[p] != DUP``
     (lfqt.dc.subdivide; T is never filled: an unused slot holds garbage and
-    is not looked at).
-    Branch-free: the short-circuit form compiled to a loop five times
-    slower."""
-    nslots = T.shape[0] // 6
+    is not looked at).  Branch-free."""
+    nslots = 2 * (codes.shape[0] - 1)
     for b in range(blo, bhi):
         word = np.uint64(0)
         for t in range(BLOCK * b, min(BLOCK * b + BLOCK, nslots)):
-            p = (t >> 1) + 1
-            real = ((codes[u(p)] != DUP) & (T[slot(t, 0)] >= 0) & (T[slot(t, 1)] >= 0)
-                    & (T[slot(t, 2)] >= 0))
-            word |= np.uint64(real) << np.uint64(t & (BLOCK - 1))
+            used = codes[u((t >> 1) + 1)] != DUP
+            word |= np.uint64(used) << np.uint64(t & (BLOCK - 1))
         bits[u(b)] = word
         counts[u(b)] = popcount(word)
+
+
+@njit(cache=True)
+def clear_ghosts(T, start, bits, counts):
+    """Unmark the ghosts of the hull ring through ghost ``start``: after the
+    last merge every used slot is a real triangle or one of them."""
+    g = start
+    while True:
+        bits[u(g >> 6)] &= ~(np.uint64(1) << np.uint64(g & (BLOCK - 1)))
+        counts[u(g >> 6)] -= 1
+        g = tri(T[slot(g, 5)])
+        if g == start:
+            break
 
 
 @njit(cache=True, inline="always")
@@ -72,31 +84,38 @@ def row(bits, first, t):
 
 
 @njit(cache=True, nogil=True)
-def write_simplices(T, bits, first, perm, simplices, blo, bhi):
-    """The vertex rows, in input indices, of the real slots of blocks
-    [blo, bhi)."""
-    k = first[u(blo)]
-    for t in range(BLOCK * blo, min(BLOCK * bhi, T.shape[0] // 6)):
-        if is_real(bits, t):
-            for i in range(3):
-                simplices[u(k), i] = perm[u(T[slot(t, i)])]
-            k += 1
-
-
-@njit(cache=True, nogil=True)
-def pack_neighbors(T, bits, first, blo, bhi):
-    """The neighbour rows of the real slots of blocks [blo, bhi), packed from
-    T[6 * 64 * blo] on (see the module's step 3); neighbour i is opposite
-    vertex i, -1 on the hull.  Returns how many entries were written."""
+def write_rows(T, bits, first, perm, simplices, blo, bhi):
+    """The rows of the real slots of blocks [blo, bhi): vertex rows, in input
+    indices, to ``simplices``; neighbour rows (neighbour i opposite vertex i,
+    -1 on the hull) packed into T from T[6 * 64 * blo] on.  Slot t is read
+    whole before its rows are written, and its neighbour row lands below
+    the slots still to be read (the module's step 3).  Returns how many
+    entries of T were written, or -1 for a marked slot that is a ghost."""
     base = 6 * BLOCK * blo
     k = 0
     for t in range(BLOCK * blo, min(BLOCK * bhi, T.shape[0] // 6)):
         if is_real(bits, t):
-            for i in range(3):
-                w = tri(T[slot(t, 3 + (i + 1) % 3)])  # edge opposite i starts at i + 1
-                T[u(base + 3 * k + i)] = row(bits, first, w) if is_real(bits, w) else -1
+            a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
+            if min(a, b, c) < 0:
+                return -1  # a ghost off the hull ring: never, but never as output
+            e_bc, e_ca, e_ab = T[slot(t, 4)], T[slot(t, 5)], T[slot(t, 3)]  # opposite a, b, c
+            row_k = first[u(blo)] + k
+            simplices[u(row_k), 0] = perm[u(a)]
+            simplices[u(row_k), 1] = perm[u(b)]
+            simplices[u(row_k), 2] = perm[u(c)]
+            at = u(base + 3 * k)
+            T[at] = _neighbor(bits, first, e_bc)
+            T[at + np.uint64(1)] = _neighbor(bits, first, e_ca)
+            T[at + np.uint64(2)] = _neighbor(bits, first, e_ab)
             k += 1
     return 3 * k
+
+
+@njit(cache=True, inline="always")
+def _neighbor(bits, first, e):
+    """Output row of the triangle across half-edge twin e, -1 for a ghost."""
+    w = tri(e)
+    return row(bits, first, w) if is_real(bits, w) else -1
 
 
 @njit(cache=True, nogil=True)
