@@ -135,7 +135,7 @@ def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
     the sorted keys and points.  T is left unwritten: every slot a merge
     owns is written by it, and the output tells the others by their split
-    position (output.mark_real), so no page of T is touched twice."""
+    position (output.mark_used), so no page of T is touched twice."""
     n = P.shape[0]
     idx = perm.dtype
     T = new_triangles(6 * max(2 * (n - 1), 0), t_dtype(n))
