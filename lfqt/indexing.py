@@ -28,3 +28,23 @@ def popcount(typingctx, v):
             builder.module, ir.FunctionType(ir.IntType(64), [ir.IntType(64)]), "llvm.ctpop.i64")
         return builder.call(fn, [args[0]])
     return types.int64(types.uint64), codegen
+
+
+@intrinsic
+def borrow(typingctx, arr):
+    """A view of ``arr`` that holds no reference: the same data, shape and
+    strides with a null memory-info, on which numba's reference counting is
+    a no-op (NRT_incref returns at once on null, and LLVM folds the test
+    away).  For passing arrays to an inlined helper that loops, where each
+    reference would cost two atomic operations per call.  The view must not
+    outlive ``arr``: take it inside the kernel that owns ``arr``."""
+    def codegen(context, builder, signature, args):
+        aty = signature.args[0]
+        src = context.make_array(aty)(context, builder, value=args[0])
+        view = context.make_array(aty)(context, builder)
+        for field in ("data", "shape", "strides", "nitems", "itemsize"):
+            setattr(view, field, getattr(src, field))
+        view.meminfo = cgutils.get_null_value(view.meminfo.type)
+        view.parent = cgutils.get_null_value(view.parent.type)
+        return view._getvalue()
+    return arr(arr), codegen

@@ -4,7 +4,7 @@ from numba import njit
 from hypothesis import given
 from hypothesis import strategies as st
 
-from lfqt.indexing import popcount, u
+from lfqt.indexing import borrow, popcount, u
 
 
 @njit(cache=True)
@@ -33,3 +33,17 @@ def _popcounts(values):
 def test_popcount_counts_set_bits(values):
     got = _popcounts(np.array(values, dtype=np.uint64))
     assert got.tolist() == [bin(v).count("1") for v in values]
+
+
+@njit(cache=True)
+def _through_borrowed(a):
+    v = borrow(a)
+    v[1, 0] = 7.0  # writes land in a
+    return v.shape[0], v.shape[1], v[2, 1], v.sum()
+
+
+def test_borrowed_view_is_the_same_array():
+    a = np.arange(12.0).reshape(6, 2)
+    rows, cols, x, total = _through_borrowed(a)
+    assert (rows, cols, x) == (6, 2, 5.0)
+    assert a[1, 0] == 7.0 and total == a.sum()

@@ -18,8 +18,9 @@ quad-tree level, and counted in ``counts`` (lfqt.predicates.counters).
 import numpy as np
 from numba import njit
 
-from ..indexing import u
-from ..predicates.counters import INCIRCLE, ORIENT, tally
+from ..indexing import borrow, u
+from ..predicates.counters import (INCIRCLE, INCIRCLE_S1, INCIRCLE_S2, ORIENT, ORIENT_S1,
+                                   ORIENT_S2)
 from ..predicates.levels import binade, level_bounds
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
 from .layout import (GHOST, PART, SINGLE, STACK, XMAX, XMIN, YMAX, YMIN, less, link, link_edges,
@@ -156,6 +157,42 @@ def _union_extremes(P, parts, lt, rt, x_split):
     parts[lt, SINGLE] = 0
 
 
+@njit(cache=True, inline="always")
+def _candidate(T, P, A, B, s, lx, ly, rx, ry, ccwb, ccws, iccb, iccs):
+    """Side s's candidate above the base l -> r (coordinates lx ... ry), next
+    to the ghost A: (valid, candidate, its ghost, its x, its y, orient counts,
+    in-circle counts).  Edges to the candidate whose next neighbour lies in
+    the circle through l, r and it are deleted on the way."""
+    g = tri(T[slot(A, 5 - s)])  # the ghost next to A on side s
+    c, cx, cy = -1, 0.0, 0.0
+    ok = False
+    n_o = n_o1 = n_o2 = n_i = n_i1 = n_i2 = 0
+    if g != B:  # else the side's hull is used up
+        c = T[slot(g, s)]
+        cx, cy = P[u(c), 0], P[u(c), 1]
+        o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
+        n_o, n_o1, n_o2 = 1, int(st > 0), int(st > 1)
+        ok = o > 0.0
+        while ok:  # delete edges to c while the next one is in its circle
+            e = T[slot(g, 3)]
+            x = T[origin(prv(e))]
+            if x == GHOST:
+                break
+            xx, xy = P[u(x), 0], P[u(x), 1]
+            ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb, iccs)
+            n_i, n_i1, n_i2 = n_i + 1, n_i1 + (st > 0), n_i2 + (st > 1)
+            if ic <= 0.0:
+                break
+            tt = _flip_ghost(T, g, e, x)
+            if s == 0:
+                g = tt
+            # x was strictly inside the circle through l, r and c, beyond the
+            # deleted edge from the base: strictly above the base, valid
+            # without an orient test (as in Triangle's merge).
+            c, cx, cy = x, xx, xy
+    return ok, c, g, cx, cy, (n_o, n_o1, n_o2), (n_i, n_i1, n_i2)
+
+
 @njit(cache=True, nogil=True)
 def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     """Execute ops[op_lo:op_hi] (lfqt.dc.subdivide; a merge at split position
@@ -165,20 +202,19 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     stack (one for a whole subtree) are written to ``parts_out`` and their
     number returned.  Predicate counts are added to ``counts``.
 
-    The merge is written out in this loop rather than in a helper: an inlined
-    helper that loops and takes the arrays keeps numba's atomic reference
-    counts of them alive, a third of the run time.  Side s (0: left, next to
-    l; 1: right, next to r) indexes the two-element ``end``, ``ghost``,
-    ``cand`` and ``valid``, so that both sides run the same lines.
+    Each side of the bubble (0: left, next to l; 1: right, next to r) runs
+    ``_candidate`` with a literal side, so that both get code specialised
+    for them (a loop over the side, which LLVM does not unroll, cost 10-28%
+    of the merge).  An inlined helper that loops would pay two atomic
+    reference counts per array per call (half the run time), so it gets
+    borrowed views of P and T (lfqt.indexing.borrow), which cost none.
     """
     P, T, ghost_out, fmt, level_filter = mesh
+    P, T = borrow(P), borrow(T)  # for _candidate, an inlined helper that loops
     parts = np.empty((STACK, PART), dtype=np.int64)
-    end = np.empty(2, dtype=np.int64)    # the base l -> r
-    ghost = np.empty(2, dtype=np.int64)  # the ghost at each end, then next to A
-    cand = np.empty(2, dtype=np.int64)   # each side's candidate above the base
-    valid = np.empty(2, dtype=np.bool_)
-    cand_x = np.empty(2)                 # and its coordinates
-    cand_y = np.empty(2)
+    # Counts and each side's state live in scalars, not in small arrays: the
+    # stores to T may alias any array, which would cost reloads.
+    o_calls = o_und1 = o_und2 = i_calls = i_und1 = i_und2 = 0
     top = -1
     for i in range(n_in):
         top += 1
@@ -193,94 +229,83 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             continue
         lt, rt, code = top - 1, top, np.int64(codes[u(op)])
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
-        end[0] = parts[lt, XMAX if x_split else YMAX]
-        end[1] = parts[rt, XMIN if x_split else YMIN]
+        l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
+        r = parts[rt, XMIN if x_split else YMIN]
         single_l, single_r = parts[lt, SINGLE] == 1, parts[rt, SINGLE] == 1
         ccwb = iccb = ccws = iccs = 0.0
         if not (single_l and single_r):  # two lone vertices: no predicate
             ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
             wx, wy = _box(P, parts, lt, rt)
             ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
-        ghost[0] = -1 if single_l else tri(T[slot(ghost_out[u(end[0])], 4)])
-        ghost[1] = -1 if single_r else ghost_out[u(end[1])]
+        gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
+        gr = -1 if single_r else ghost_out[u(r)]
         moved = True
         while moved:  # lower common tangent: l walks clockwise, r counter-clockwise
             moved = False
             for s in range(2):
-                if ghost[s] < 0:
+                g = gl if s == 0 else gr
+                if g < 0:
                     continue
-                c = T[slot(ghost[s], 1 - s)]
-                o, st = _orient(P, end[0], end[1], c, ccwb, ccws)
-                tally(counts, ORIENT, st)
+                c = T[slot(g, 1 - s)]
+                o, st = _orient(P, l, r, c, ccwb, ccws)
+                o_calls += 1
+                o_und1 += st > 0
+                o_und2 += st > 1
                 if o < 0.0:
-                    end[s] = c
-                    ghost[s] = tri(T[slot(ghost[s], 4 + s)])
+                    g = tri(T[slot(g, 4 + s)])
+                    if s == 0:
+                        l, gl = c, g
+                    else:
+                        r, gr = c, g
                     moved = True
                     break
         A = 2 * (op - 1)
         B = A + 1
-        _splice(T, A, B, end[0], end[1])
-        for s in range(2):
-            _splice_side(T, A, B, ghost[s], s)
-        l_bottom = end[0]
+        _splice(T, A, B, l, r)
+        _splice_side(T, A, B, gl, 0)
+        _splice_side(T, A, B, gr, 1)
+        l_bottom = l
         # The base's and the candidates' coordinates stay in registers: the
         # predicates on the bubble's critical path then load only the point
         # they test.
-        lx, ly = P[u(end[0]), 0], P[u(end[0]), 1]
-        rx, ry = P[u(end[1]), 0], P[u(end[1]), 1]
+        lx, ly = P[u(l), 0], P[u(l), 1]
+        rx, ry = P[u(r), 0], P[u(r), 1]
         while True:  # the rising bubble
-            for s in range(2):
-                g = tri(T[slot(A, 5 - s)])
-                ok = False
-                if g != B:  # else the side's hull is used up
-                    c = T[slot(g, s)]
-                    cx, cy = P[u(c), 0], P[u(c), 1]
-                    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
-                    tally(counts, ORIENT, st)
-                    ok = o > 0.0
-                    while ok:  # delete edges to c while the next one is in its circle
-                        e = T[slot(g, 3)]
-                        x = T[origin(prv(e))]
-                        if x == GHOST:
-                            break
-                        xx, xy = P[u(x), 0], P[u(x), 1]
-                        ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb, iccs)
-                        tally(counts, INCIRCLE, st)
-                        if ic <= 0.0:
-                            break
-                        tt = _flip_ghost(T, g, e, x)
-                        if s == 0:
-                            g = tt
-                        # x was strictly inside the circle through l, r and
-                        # c, beyond the deleted edge from the base: strictly
-                        # above the base, valid without an orient test (as in
-                        # Triangle's merge).
-                        c, cx, cy = x, xx, xy
-                    cand[s] = c
-                    cand_x[s] = cx
-                    cand_y[s] = cy
-                valid[s] = ok
-                ghost[s] = g
-            if not valid[0] and not valid[1]:
+            vl, cl, gl, clx, cly, oc, ic = _candidate(T, P, A, B, 0, lx, ly, rx, ry, ccwb, ccws,
+                                                      iccb, iccs)
+            o_calls, o_und1, o_und2 = o_calls + oc[0], o_und1 + oc[1], o_und2 + oc[2]
+            i_calls, i_und1, i_und2 = i_calls + ic[0], i_und1 + ic[1], i_und2 + ic[2]
+            vr, cr, gr, crx, cry, oc, ic = _candidate(T, P, A, B, 1, lx, ly, rx, ry, ccwb, ccws,
+                                                      iccb, iccs)
+            o_calls, o_und1, o_und2 = o_calls + oc[0], o_und1 + oc[1], o_und2 + oc[2]
+            i_calls, i_und1, i_und2 = i_calls + ic[0], i_und1 + ic[1], i_und2 + ic[2]
+            if not vl and not vr:
                 break
-            s = 0 if valid[0] else 1
-            if valid[0] and valid[1]:
-                ic, st = incircle_staged(cand_x[0], cand_y[0], lx, ly, rx, ry, cand_x[1],
-                                         cand_y[1], iccb, iccs)
-                tally(counts, INCIRCLE, st)
-                s = 1 if ic > 0.0 else 0
-            _cross_edge(T, A, ghost[s], end[0], end[1], cand[s], s)
-            A = ghost[s]
-            end[s] = cand[s]
-            if s == 0:
-                lx, ly = cand_x[0], cand_y[0]
+            right = vr
+            if vl and vr:
+                ic, st = incircle_staged(clx, cly, lx, ly, rx, ry, crx, cry, iccb, iccs)
+                i_calls += 1
+                i_und1 += st > 0
+                i_und2 += st > 1
+                right = ic > 0.0
+            g, c = (gr, cr) if right else (gl, cl)
+            _cross_edge(T, A, g, l, r, c, 1 if right else 0)
+            A = g
+            if right:
+                r, rx, ry = cr, crx, cry
             else:
-                rx, ry = cand_x[1], cand_y[1]
-            set_triangle(T, A, end[0], end[1], GHOST)
+                l, lx, ly = cl, clx, cly
+            set_triangle(T, A, l, r, GHOST)
         ghost_out[u(l_bottom)] = B
-        ghost_out[u(end[1])] = A
+        ghost_out[u(r)] = A
         _union_extremes(P, parts, lt, rt, x_split)
         top -= 1
+    counts[ORIENT] += o_calls
+    counts[ORIENT_S1] += o_und1
+    counts[ORIENT_S2] += o_und2
+    counts[INCIRCLE] += i_calls
+    counts[INCIRCLE_S1] += i_und1
+    counts[INCIRCLE_S2] += i_und2
     for i in range(top + 1):
         parts_out[i] = parts[i]
     return top + 1
