@@ -149,10 +149,13 @@ def test_compiled_peer_output_verifies_exactly(name, rng):
 @pytest.mark.parametrize("name", ["cgal-dt2", "cgal-dt3", "triangle-native"])
 def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
     """Fidelity: through the harness (child process, limits) a compiled peer
-    takes what its own binary takes run alone on the same file (medians of
-    interleaved runs, within 10%).  Both sides time a run that follows an
-    untimed one, as the harness does: a cold first run pays this VM's
-    first touch of fresh memory, which is not the harness's doing."""
+    takes what its own binary takes run alone on the same file, within 10%.
+    Both sides time a run that follows an untimed one, as the harness does
+    (a cold first run pays this VM's first touch of fresh memory, which is
+    not the harness's doing), and are compared by their minima over 7
+    interleaved pairs: a shared machine's noise only ever adds time, which
+    put single runs 20% apart and medians of 5 outside the band, while an
+    overhead of the harness would raise its minimum too."""
     require(name)
     import json
     import subprocess
@@ -161,7 +164,7 @@ def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
     path = tmp_path / "points.npy"
     np.save(path, pts)
     alone, harness = [], []
-    for _ in range(5):
+    for _ in range(7):
         cmd = [str(peer.binary)] + peer.arguments(str(path), False)
         for _warm_then_timed in range(2):
             out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
@@ -169,7 +172,7 @@ def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
         m = drivers.measure_isolated(drivers.make(name), pts, repeats=1, timeout=120)
         assert m.ok, m
         harness.append(m.seconds[0])
-    ratio = np.median(harness) / np.median(alone)
+    ratio = min(harness) / min(alone)
     assert 0.9 < ratio < 1.1, (harness, alone)
 
 

@@ -158,6 +158,21 @@ def _union_extremes(P, parts, lt, rt, x_split):
 
 
 @njit(cache=True, inline="always")
+def _walk(T, P, l, r, g, s, ccwb, ccws):
+    """One step of side s's end of the base l -> r toward the lower common
+    tangent, g being the ghost at that end (< 0: a lone vertex, no test):
+    (moved, the end, its ghost, the orient test's stage or -1)."""
+    end = l if s == 0 else r
+    if g < 0:
+        return False, end, g, -1
+    c = T[slot(g, 1 - s)]
+    o, st = _orient(P, l, r, c, ccwb, ccws)
+    if o < 0.0:
+        return True, c, tri(T[slot(g, 4 + s)]), st
+    return False, end, g, st
+
+
+@njit(cache=True, inline="always")
 def _candidate(T, P, A, B, s, lx, ly, rx, ry, ccwb, ccws, iccb, iccs):
     """Side s's candidate above the base l -> r (coordinates lx ... ry), next
     to the ghost A: (valid, candidate, its ghost, its x, its y, orient counts,
@@ -202,15 +217,15 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     stack (one for a whole subtree) are written to ``parts_out`` and their
     number returned.  Predicate counts are added to ``counts``.
 
-    Each side of the bubble (0: left, next to l; 1: right, next to r) runs
-    ``_candidate`` with a literal side, so that both get code specialised
-    for them (a loop over the side, which LLVM does not unroll, cost 10-28%
-    of the merge).  An inlined helper that loops would pay two atomic
+    Each side (0: left, next to l; 1: right, next to r) runs ``_walk``
+    (the tangent) and ``_candidate`` (the bubble) with a literal side, so
+    that both get code specialised for them (a loop over the side, which
+    LLVM does not unroll, cost 10-28% of the merge).  An inlined helper that loops would pay two atomic
     reference counts per array per call (half the run time), so it gets
     borrowed views of P and T (lfqt.indexing.borrow), which cost none.
     """
     P, T, ghost_out, fmt, level_filter = mesh
-    P, T = borrow(P), borrow(T)  # for _candidate, an inlined helper that loops
+    P, T = borrow(P), borrow(T)  # for the inlined helpers (see above)
     parts = np.empty((STACK, PART), dtype=np.int64)
     # Counts and each side's state live in scalars, not in small arrays: the
     # stores to T may alias any array, which would cost reloads.
@@ -239,26 +254,15 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
         gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
         gr = -1 if single_r else ghost_out[u(r)]
-        moved = True
-        while moved:  # lower common tangent: l walks clockwise, r counter-clockwise
-            moved = False
-            for s in range(2):
-                g = gl if s == 0 else gr
-                if g < 0:
-                    continue
-                c = T[slot(g, 1 - s)]
-                o, st = _orient(P, l, r, c, ccwb, ccws)
-                o_calls += 1
-                o_und1 += st > 0
-                o_und2 += st > 1
-                if o < 0.0:
-                    g = tri(T[slot(g, 4 + s)])
-                    if s == 0:
-                        l, gl = c, g
-                    else:
-                        r, gr = c, g
-                    moved = True
-                    break
+        while True:  # lower common tangent: l walks clockwise, r counter-clockwise
+            moved, l, gl, st = _walk(T, P, l, r, gl, 0, ccwb, ccws)
+            o_calls, o_und1, o_und2 = o_calls + (st >= 0), o_und1 + (st > 0), o_und2 + (st > 1)
+            if moved:
+                continue
+            moved, r, gr, st = _walk(T, P, l, r, gr, 1, ccwb, ccws)
+            o_calls, o_und1, o_und2 = o_calls + (st >= 0), o_und1 + (st > 0), o_und2 + (st > 1)
+            if not moved:
+                break
         A = 2 * (op - 1)
         B = A + 1
         _splice(T, A, B, l, r)
