@@ -201,6 +201,8 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     subdivide.gap_bits(khi, klo, True, gaps, 0, n)
     assert [gaps[i] == subdivide.DUP for i in range(1, n)] == \
         [keys[i] == keys[i - 1] for i in range(1, n)]
+    assert subdivide.run_starts(gaps, lo, hi).tolist() == \
+        [i for i in range(lo, hi) if i == lo or keys[i] != keys[i - 1]]
     ops = np.zeros(2 * n + 3, dtype=np.int64)
     end = subdivide.subdivide_lfqt(gaps, lo, hi, ops, 3)
     expect_ops, expect_bits = algorithm1_ops(keys, lo, hi)

@@ -153,10 +153,8 @@ def _serial(state, subdivision, counts):
     t0 = time.perf_counter()
     nops = 0
     if subdivision == "alternating" and n:
-        starts = state.gaps != subdivide.DUP
-        starts[0] = True
         state.codes = np.full(n, subdivide.DUP, dtype=np.uint8)
-        nops = subdivide.subdivide_alternating(np.flatnonzero(starts).astype(np.int64),
+        nops = subdivide.subdivide_alternating(subdivide.run_starts(state.gaps, 0, n),
                                                state.mesh.P, state.ops, state.codes)
     elif n:
         nops = state.subdivide(0, n, 0)

@@ -29,7 +29,7 @@ from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
 from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, edge, less, slot
-from .subdivide import DUP
+from .subdivide import run_starts
 
 ORDERS = ("hilbert", "kdtree")
 
@@ -102,9 +102,7 @@ def insert_bin(state, lo, hi, order, counts, part):
     the seconds spent building the order."""
     end = state.subdivide(lo, hi, 2 * lo)
     ops = state.ops[2 * lo:end]
-    starts = state.gaps[lo:hi] != DUP
-    starts[0] = True  # a bin starts a run
-    ids = lo + np.flatnonzero(starts)
+    ids = run_starts(state.gaps, lo, hi)
     t_order = 0.0
     if len(ids) >= 3:
         P = np.ascontiguousarray(state.mesh.P[ids])

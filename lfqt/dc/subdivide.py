@@ -74,6 +74,15 @@ def gap_bits(khi, klo, wide, gaps, lo, hi):
         gaps[u(i)] = DUP if bit < 0 else bit
 
 
+def run_starts(gaps, lo, hi):
+    """The positions in [lo, hi) that start a run of equal keys, the first
+    one always: the distinct vertices of the range."""
+    starts = gaps[lo:hi] != DUP
+    if hi > lo:
+        starts[0] = True
+    return lo + np.flatnonzero(starts)
+
+
 @njit(cache=True, nogil=True)
 def subdivide_lfqt(gaps, lo, hi, ops, nops):
     """Algorithm 1 of fqDel as one sweep: append the post-order ops of the
