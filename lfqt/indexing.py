@@ -19,7 +19,6 @@ def u(i):
     return np.uint64(i)
 
 
-
 @intrinsic
 def popcount(typingctx, v):
     """Set bits of a uint64 (llvm.ctpop: one popcnt instruction)."""

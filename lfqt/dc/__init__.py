@@ -228,9 +228,9 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
 def _output(state, perm, root, workers):
     """The real triangles in input indices, the hull loop and duplicate_of:
     (simplices, neighbors, hull, duplicate_of, n_distinct, reason the set is
-    degenerate or "").
-    Takes the mesh out of ``state`` and builds ``neighbors`` in T's own
-    memory (lfqt.dc.output), so that T and a whole result never coexist."""
+    degenerate or "").  Takes the mesh out of ``state`` and builds
+    ``neighbors`` in T's own memory (lfqt.dc.output), so that T and a whole
+    result never coexist."""
     T, ghost_out, gaps, codes = state.mesh.T, state.mesh.ghost_out, state.gaps, state.codes
     state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # free P, ops
     n = len(perm)

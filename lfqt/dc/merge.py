@@ -220,9 +220,10 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     Each side (0: left, next to l; 1: right, next to r) runs ``_walk``
     (the tangent) and ``_candidate`` (the bubble) with a literal side, so
     that both get code specialised for them (a loop over the side, which
-    LLVM does not unroll, cost 10-28% of the merge).  An inlined helper that loops would pay two atomic
-    reference counts per array per call (half the run time), so it gets
-    borrowed views of P and T (lfqt.indexing.borrow), which cost none.
+    LLVM does not unroll, cost 10-28% of the merge).  An inlined helper
+    that loops would pay two atomic reference counts per array per call
+    (half the run time), so it gets borrowed views of P and T
+    (lfqt.indexing.borrow), which cost none.
     """
     P, T, ghost_out, fmt, level_filter = mesh
     P, T = borrow(P), borrow(T)  # for the inlined helpers (see above)

@@ -16,7 +16,7 @@ result never coexist (peak memory, lfqt.dc._output):
    to a new array, and each chunk of blocks' neighbour rows packed at the
    start of its own part of T.  Row k of a chunk lands at 3k to 3k + 2,
    below the slots after k, which are still to be read (at 6k + 6 on);
-4. ``move_rows``: the chunks' rows slide down to their final place, in
+3. ``move_rows``: the chunks' rows slide down to their final place, in
    chunk order, each below what is still to move; T is then shrunk to them.
 """
 import numpy as np
@@ -89,7 +89,7 @@ def write_rows(T, bits, first, perm, simplices, blo, bhi):
     indices, to ``simplices``; neighbour rows (neighbour i opposite vertex i,
     -1 on the hull) packed into T from T[6 * 64 * blo] on.  Slot t is read
     whole before its rows are written, and its neighbour row lands below
-    the slots still to be read (the module's step 3).  Returns how many
+    the slots still to be read (the module's step 2).  Returns how many
     entries of T were written, or -1 for a marked slot that is a ghost."""
     base = 6 * BLOCK * blo
     k = 0

@@ -38,9 +38,8 @@ unbounded), ``depth`` (root 0), ``parent`` (-1 at the root), and ``lo``,
 def _decode(ops, nops, n, gaps):
     """(lo, split, hi, bit, parent) of each merge op of a post-order op list
     (lfqt.dc.subdivide; a split's bit is its gap) over n sorted positions, in
-    op order.  A node ends
-    where the next vertex pushed after it starts (runs of equal keys are one
-    vertex), or at n."""
+    op order.  A node ends where the next vertex pushed after it starts (runs
+    of equal keys are one vertex), or at n."""
     m = 0
     for k in range(nops):
         m += ops[k] >= 0
