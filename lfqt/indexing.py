@@ -47,3 +47,18 @@ def borrow(typingctx, arr):
         view.parent = cgutils.get_null_value(view.parent.type)
         return view._getvalue()
     return arr(arr), codegen
+
+
+@njit(cache=True, inline="always")
+def bit(bits, t):
+    """Bit t of a bitmap of uint64 words (64 bits each, lowest first)."""
+    return (bits[u(t >> 6)] >> np.uint64(t & 63)) & np.uint64(1)
+
+
+@njit(cache=True, inline="always")
+def rank(bits, first, t):
+    """The set bits of ``bits`` before bit t, given ``first[w]``, the set bits
+    before word w: a compact id for each set bit, found with one popcount in
+    two small arrays (a bit and 8 bytes per 64 items) that stay in cache."""
+    below = bits[u(t >> 6)] & ((np.uint64(1) << np.uint64(t & 63)) - np.uint64(1))
+    return first[u(t >> 6)] + popcount(below)

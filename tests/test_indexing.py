@@ -3,7 +3,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.indexing import borrow, popcount, u
+from lfqt.indexing import bit, borrow, popcount, rank, u
 
 
 @njit(cache=True)
@@ -41,3 +41,25 @@ def test_borrowed_view_is_the_same_array():
     rows, cols, x, total = _through_borrowed(a)
     assert (rows, cols, x) == (6, 2, 5.0)
     assert a[1, 0] == 7.0 and total == a.sum()
+
+
+@njit(cache=True)
+def _bits_and_ranks(bits, first, n):
+    out_bit = np.empty(n, dtype=np.int64)
+    out_rank = np.empty(n, dtype=np.int64)
+    for t in range(n):
+        out_bit[t] = bit(bits, t)
+        out_rank[t] = rank(bits, first, t)
+    return out_bit, out_rank
+
+
+@given(st.lists(st.booleans(), min_size=1, max_size=300))
+def test_rank_counts_the_set_bits_before(flags):
+    flags = np.array(flags)
+    padded = np.zeros(-(-len(flags) // 64) * 64, dtype=bool)
+    padded[:len(flags)] = flags
+    bits = np.packbits(padded.reshape(-1, 64)[:, ::-1], axis=1).view(">u8").ravel().astype(np.uint64)
+    first = np.concatenate([[0], np.cumsum(padded.reshape(-1, 64).sum(axis=1))[:-1]])
+    got_bit, got_rank = _bits_and_ranks(bits, first.astype(np.int64), len(flags))
+    assert got_bit.tolist() == flags.astype(int).tolist()
+    assert got_rank.tolist() == (np.cumsum(flags) - flags).tolist()

@@ -11,7 +11,7 @@ result never coexist (peak memory, lfqt.dc._output):
    used slot holds a real triangle or a ghost of the one hull ring, so the
    bits come from the merges' codes and a walk of the ring, not from a pass
    over T.  ``first[b]``, the real slots before block b, then gives a slot
-   its output row with one popcount (``row``);
+   its output row with one popcount (lfqt.indexing.rank);
 2. ``write_rows``: in one pass over T, the vertex rows, in input indices,
    to a new array, and each chunk of blocks' neighbour rows packed at the
    start of its own part of T.  Row k of a chunk lands at 3k to 3k + 2,
@@ -22,7 +22,7 @@ result never coexist (peak memory, lfqt.dc._output):
 import numpy as np
 from numba import njit
 
-from ..indexing import popcount, u
+from ..indexing import bit, popcount, rank, u
 from .layout import slot, tri
 from .subdivide import DUP
 
@@ -38,7 +38,7 @@ def gather_points(x, y, perm, scale, P, lo, hi):
         P[u(i), 1] = np.float64(y[j]) * scale
 
 
-BLOCK = 64  # slots per word of the bitmask of real slots
+BLOCK = 64  # slots per word of the bitmask of real slots (lfqt.indexing.bit)
 
 
 @njit(cache=True, nogil=True)
@@ -71,18 +71,6 @@ def clear_ghosts(T, start, bits, counts):
             break
 
 
-@njit(cache=True, inline="always")
-def is_real(bits, t):
-    return (bits[u(t >> 6)] >> np.uint64(t & (BLOCK - 1))) & np.uint64(1)
-
-
-@njit(cache=True, inline="always")
-def row(bits, first, t):
-    """Output row of the real slot t: the real slots before it."""
-    below = bits[u(t >> 6)] & ((np.uint64(1) << np.uint64(t & (BLOCK - 1))) - np.uint64(1))
-    return first[u(t >> 6)] + popcount(below)
-
-
 @njit(cache=True, nogil=True)
 def write_rows(T, bits, first, perm, simplices, blo, bhi):
     """The rows of the real slots of blocks [blo, bhi): vertex rows, in input
@@ -94,7 +82,7 @@ def write_rows(T, bits, first, perm, simplices, blo, bhi):
     base = 6 * BLOCK * blo
     k = 0
     for t in range(BLOCK * blo, min(BLOCK * bhi, T.shape[0] // 6)):
-        if is_real(bits, t):
+        if bit(bits, t):  # a real slot
             a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
             if min(a, b, c) < 0:
                 return -1  # a ghost off the hull ring: never, but never as output
@@ -115,7 +103,7 @@ def write_rows(T, bits, first, perm, simplices, blo, bhi):
 def _neighbor(bits, first, e):
     """Output row of the triangle across half-edge twin e, -1 for a ghost."""
     w = tri(e)
-    return row(bits, first, w) if is_real(bits, w) else -1
+    return rank(bits, first, w) if bit(bits, w) else -1
 
 
 @njit(cache=True, nogil=True)

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from ..clock import cycle_counter
-from ..indexing import u
+from ..indexing import bit, popcount, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
@@ -512,29 +512,37 @@ def insert_all(P, d, perm, hint, span, capacity=0):
 @njit(cache=True)
 def finite_cells(C, N, alive, ids):
     """(simplices, neighbors) of the live finite cells, vertices mapped
-    through ``ids``, neighbours renumbered, -1 across the hull."""
+    through ``ids``, neighbours renumbered, -1 across the hull.  A cell's
+    new id is its rank in a bitmap of the finite cells (lfqt.indexing.rank):
+    the neighbours point anywhere in C, and a bit per cell plus a count per
+    64 stay in cache where an id per cell would not."""
     m = C.shape[0]
     width = C.shape[1]
-    newid = np.full(m, -1, dtype=np.int64)
+    nwords = (m + 63) >> 6
+    bits = np.empty(nwords, dtype=np.uint64)
+    first = np.empty(nwords, dtype=np.int64)
     k = 0
-    for c in range(m):
-        if alive[c]:
-            finite = True
+    for w in range(nwords):
+        word = np.uint64(0)
+        for c in range(64 * w, min(64 * w + 64, m)):
+            finite = alive[c]
             for i in range(width):
-                if C[c, i] < 0:
-                    finite = False
-            if finite:
-                newid[c] = k
-                k += 1
+                finite &= C[c, i] >= 0
+            word |= np.uint64(finite) << np.uint64(c & 63)
+        bits[w] = word
+        first[w] = k
+        k += popcount(word)
     simplices = np.empty((k, width), dtype=np.int32)
     neighbors = np.empty((k, width), dtype=np.int32)
+    j = 0
     for c in range(m):
-        j = newid[c]
-        if j < 0:
+        if not bit(bits, c):
             continue
         for i in range(width):
             simplices[j, i] = ids[C[c, i]]
-            neighbors[j, i] = newid[N[c, i]]
+            nb = N[c, i]
+            neighbors[j, i] = rank(bits, first, nb) if bit(bits, nb) else -1
+        j += 1
     return simplices, neighbors
 
 
