@@ -152,10 +152,12 @@ def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
     takes what its own binary takes run alone on the same file, within 10%.
     Both sides time a run that follows an untimed one, as the harness does
     (a cold first run pays this VM's first touch of fresh memory, which is
-    not the harness's doing), and are compared by their minima over 7
-    interleaved pairs: a shared machine's noise only ever adds time, which
-    put single runs 20% apart and medians of 5 outside the band, while an
-    overhead of the harness would raise its minimum too."""
+    not the harness's doing), in 7 interleaved pairs, compared by the
+    median of the pairs' ratios.  On this shared machine single runs spread
+    20%, and both ways: one harness run at 0.098 s among pairs at 0.12-0.13 s
+    put the ratio of minima at 0.88.  The two runs of a pair share the
+    machine's state of the moment, and the median ignores a lone outlier,
+    while an overhead of the harness would raise every pair's ratio."""
     require(name)
     import json
     import subprocess
@@ -172,7 +174,7 @@ def test_harness_time_is_the_binary_time_alone(name, rng, tmp_path):
         m = drivers.measure_isolated(drivers.make(name), pts, repeats=1, timeout=120)
         assert m.ok, m
         harness.append(m.seconds[0])
-    ratio = min(harness) / min(alone)
+    ratio = float(np.median(np.array(harness) / np.array(alone)))
     assert 0.9 < ratio < 1.1, (harness, alone)
 
 
