@@ -11,6 +11,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
+from numba.np.arrayobj import populate_array
 
 
 @njit(cache=True, inline="always")
@@ -47,6 +48,30 @@ def borrow(typingctx, arr):
         view.parent = cgutils.get_null_value(view.parent.type)
         return view._getvalue()
     return arr(arr), codegen
+
+
+@intrinsic
+def stack_array(typingctx, size):
+    """A float64 array of ``size`` (a compile-time constant) on the stack of
+    the calling function, with a null memory-info like ``borrow``'s views:
+    no allocation, and no reference counting where it is passed on.  It
+    lives as long as that function's frame: pass it down, never return or
+    store it.  For the scratch space of the adaptive predicates, which ran
+    a heap allocation per call."""
+    if not isinstance(size, types.IntegerLiteral):
+        return None  # numba retries with the literal
+    n = size.literal_value
+    aty = types.Array(types.float64, 1, "C")
+
+    def codegen(context, builder, signature, args):
+        data = cgutils.alloca_once(builder, context.get_value_type(types.float64), size=n)
+        ary = context.make_array(aty)(context, builder)
+        intp = context.get_value_type(types.intp)
+        populate_array(ary, data=data, shape=[ir.Constant(intp, n)],
+                       strides=[ir.Constant(intp, 8)], itemsize=ir.Constant(intp, 8),
+                       meminfo=cgutils.get_null_value(ary.meminfo.type))
+        return ary._getvalue()
+    return aty(size), codegen
 
 
 @njit(cache=True, inline="always")

@@ -3,7 +3,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.indexing import bit, borrow, popcount, rank, u
+from lfqt.indexing import bit, borrow, popcount, rank, stack_array, u
 
 
 @njit(cache=True)
@@ -63,3 +63,26 @@ def test_rank_counts_the_set_bits_before(flags):
     got_bit, got_rank = _bits_and_ranks(bits, first.astype(np.int64), len(flags))
     assert got_bit.tolist() == flags.astype(int).tolist()
     assert got_rank.tolist() == (np.cumsum(flags) - flags).tolist()
+
+
+@njit(cache=True)
+def _sum_first(a, k):
+    total = 0.0
+    for i in range(k):
+        total += a[i]
+    return total
+
+
+@njit(cache=True)
+def _through_stack(values):
+    work = stack_array(16)
+    for i in range(values.shape[0]):
+        work[i] = values[i]
+    return work.shape[0], _sum_first(work, values.shape[0]), work[values.shape[0] - 1]
+
+
+@given(st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=16))
+def test_stack_array_holds_what_is_written_and_passes_down(values):
+    size, total, last = _through_stack(np.array(values))
+    assert size == 16 and last == values[-1]
+    assert total == _sum_first(np.array(values), len(values))

@@ -14,7 +14,10 @@ an estimate.  Three stages, named as in Shewchuk's predicates.c:
 2. ``*_adapt`` stage B: the determinant of the *rounded* coordinate
    differences, computed exactly as an expansion.  It decides when the
    differences were exact or when it clears ``CCW_B`` / ``ICC_B``;
-3. ``*_exact``: expansion arithmetic from the coordinates themselves.
+3. the exact stage: for in-circle first Shewchuk's C1 correction (the
+   first-order terms of the differences' roundings, in floating point, with
+   its own error bound), then ``*_exact``: expansion arithmetic from the
+   coordinates themselves.
 
 The ``*_staged`` functions return (value, deciding stage 0, 1 or 2) and take
 scalars only: an array argument on a hot path costs numba an atomic
@@ -23,6 +26,7 @@ reference-count update per call.
 import numpy as np
 from numba import njit
 
+from ..indexing import stack_array
 from .expansion import (EPS, NOT_INT, as_int, cross_exact, exact_diff, expansion_product,
                         expansion_sign, expansion_sum, int_unit, scale_expansion, sign4, sign_int,
                         two_diff, two_product, two_sum)
@@ -33,7 +37,9 @@ CCW_A = (3.0 + 16.0 * EPS) * EPS
 CCW_B = (2.0 + 12.0 * EPS) * EPS
 ICC_A = (10.0 + 96.0 * EPS) * EPS
 ICC_B = (4.0 + 48.0 * EPS) * EPS
-WORK_SIZE = 512  # doubles of scratch space of incircle's stage B
+ICC_C = (44.0 + 576.0 * EPS) * EPS * EPS  # stage 3's first step (Shewchuk's C1)
+RESULT_ERR = (3.0 + 8.0 * EPS) * EPS  # the rounding of the stage-B estimate
+WORK_SIZE = 304  # doubles of scratch space of incircle's stage B (see _lifted_term)
 
 
 @njit(cache=True, inline="always")
@@ -169,9 +175,12 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     ady = ay - dy
     bdy = by - dy
     cdy = cy - dy
-    tails_zero = (two_diff(ax, dx)[1] == 0.0 and two_diff(bx, dx)[1] == 0.0
-                  and two_diff(cx, dx)[1] == 0.0 and two_diff(ay, dy)[1] == 0.0
-                  and two_diff(by, dy)[1] == 0.0 and two_diff(cy, dy)[1] == 0.0)
+    # the roundings of the differences: a - d = adx + adxt exactly
+    adxt, adyt = two_diff(ax, dx)[1], two_diff(ay, dy)[1]
+    bdxt, bdyt = two_diff(bx, dx)[1], two_diff(by, dy)[1]
+    cdxt, cdyt = two_diff(cx, dx)[1], two_diff(cy, dy)[1]
+    tails_zero = (adxt == 0.0 and bdxt == 0.0 and cdxt == 0.0 and adyt == 0.0
+                  and bdyt == 0.0 and cdyt == 0.0)
     if tails_zero:
         # Exact differences that are small integers in a common power-of-two
         # unit (grids, cocircular integer sets): an int64 determinant, no
@@ -187,7 +196,7 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
                  + (b0 * b0 + b1 * b1) * (c0 * a1 - a0 * c1)
                  + (c0 * c0 + c1 * c1) * (a0 * b1 - b0 * a1))
             return sign_int(v), 1
-    work = np.empty(WORK_SIZE)
+    work = stack_array(WORK_SIZE)  # no heap allocation per call
     # Stage B: exact determinant of the rounded differences.
     na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
     nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
@@ -203,6 +212,20 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
         est += fin[i]
     if abs(est) >= ICC_B * permanent:
         return est, 1
+    # Stage 3, first Shewchuk's C1 step (predicates.c, incircleadapt): the
+    # terms of first order in the tails, added to the estimate in floating
+    # point, decide unless within ICC_C * permanent + RESULT_ERR * |est| of 0
+    # (near-cocircular points that are not exactly cocircular, such as
+    # points on a circle rounded to doubles); else the expansions.
+    bound = ICC_C * permanent + RESULT_ERR * abs(est)
+    est += (((adx * adx + ady * ady) * ((bdx * cdyt + cdy * bdxt) - (bdy * cdxt + cdx * bdyt))
+             + 2.0 * (adx * adxt + ady * adyt) * (bdx * cdy - bdy * cdx))
+            + ((bdx * bdx + bdy * bdy) * ((cdx * adyt + ady * cdxt) - (cdy * adxt + adx * cdyt))
+               + 2.0 * (bdx * bdxt + bdy * bdyt) * (cdx * ady - cdy * adx))
+            + ((cdx * cdx + cdy * cdy) * ((adx * bdyt + bdy * adxt) - (ady * bdxt + bdx * adyt))
+               + 2.0 * (cdx * cdxt + cdy * cdyt) * (adx * bdy - ady * bdx)))
+    if abs(est) >= bound:
+        return est, 2
     return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
 
 
