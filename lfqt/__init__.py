@@ -7,6 +7,7 @@
     quadtree      the LFQT of a point set as a table (lfqt.dc.quadtree)
     distributed   Tile & Merge on Dask for sets beyond one machine (lfqt.distributed)
 """
+from . import jit_cache  # noqa: F401  (first: before any kernel is defined)
 from . import distributed
 from .dc import triangulate
 from .dc.quadtree import quadtree
