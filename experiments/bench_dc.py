@@ -29,8 +29,9 @@ from .runner import Cell
 
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 3_000_000, 10_000_000]}
-DISTS = {"smoke": ["uniform"], "default": ["uniform", "grid", "cluster"],
-         "paper": ["uniform", "grid", "cluster"]}
+# spiral: issue 18's third set with a target (CGAL >= 3x at 1M, like grid)
+DISTS = {"smoke": ["uniform"], "default": ["uniform", "grid", "cluster", "spiral"],
+         "paper": ["uniform", "grid", "cluster", "spiral"]}
 PEERS = ["lfqt-dc", "lfqt-dc-alternating", "triangle-native", "triangle", "cgal-dt2",
          "cgal-dt2-indexed", "qhull-2d"]
 QHULL_MAX = 1_000_000  # Qhull needs ~13 s per run at 1M: larger sizes are left out
