@@ -143,31 +143,43 @@ def kdtree_order(P, alternate, sibling):
     return perm, hint
 
 
-@njit(cache=True)
-def _hilbert_index_2d(x, y, bits):
-    """Skilling's transform: Hilbert index of integer cell (x, y)."""
-    X0 = x
-    X1 = y
-    M = 1 << (bits - 1)
-    Q = M
-    while Q > 1:
-        P_ = Q - 1
-        if X0 & Q:
-            X0 ^= P_
-        if X1 & Q:
-            X0 ^= P_
-        else:
-            t = (X0 ^ X1) & P_
-            X0 ^= t
-            X1 ^= t
-        Q >>= 1
-    X1 ^= X0
+@njit(cache=True, inline="always")
+def _exchange(X0, Xi, Q):
+    """One step of Skilling's transform at bit Q: axis i against axis 0 (an
+    inversion of X0's low bits, or an exchange of the low bits where they
+    differ).  Axis 0 against itself is the inversion or nothing."""
+    P_ = Q - 1
+    if Xi & Q:
+        return X0 ^ P_, Xi
+    t = (X0 ^ Xi) & P_
+    return X0 ^ t, Xi ^ t
+
+
+@njit(cache=True, inline="always")
+def _gray_mask(last, M):
+    """The mask that Skilling's transform xors into every axis after the Gray
+    encoding, from the last axis."""
     t = 0
     Q = M
     while Q > 1:
-        if X1 & Q:
+        if last & Q:
             t ^= Q - 1
         Q >>= 1
+    return t
+
+
+@njit(cache=True, inline="always")
+def _hilbert_index_2d(x, y, bits):
+    """Skilling's transform: Hilbert index of integer cell (x, y)."""
+    X0, X1 = x, y
+    M = 1 << (bits - 1)
+    Q = M
+    while Q > 1:
+        X0, _ = _exchange(X0, X0, Q)
+        X0, X1 = _exchange(X0, X1, Q)
+        Q >>= 1
+    X1 ^= X0
+    t = _gray_mask(X1, M)
     X0 ^= t
     X1 ^= t
     h = 0
@@ -184,31 +196,14 @@ def _hilbert_index_3d(x, y, z, bits):
     X0, X1, X2 = x, y, z
     M = 1 << (bits - 1)
     Q = M
-    while Q > 1:  # axes 0, 1, 2 in turn (axis 0 against itself: a flip or nothing)
-        P_ = Q - 1
-        if X0 & Q:
-            X0 ^= P_
-        if X1 & Q:
-            X0 ^= P_
-        else:
-            t = (X0 ^ X1) & P_
-            X0 ^= t
-            X1 ^= t
-        if X2 & Q:
-            X0 ^= P_
-        else:
-            t = (X0 ^ X2) & P_
-            X0 ^= t
-            X2 ^= t
+    while Q > 1:
+        X0, _ = _exchange(X0, X0, Q)
+        X0, X1 = _exchange(X0, X1, Q)
+        X0, X2 = _exchange(X0, X2, Q)
         Q >>= 1
     X1 ^= X0
     X2 ^= X1
-    t = 0
-    Q = M
-    while Q > 1:
-        if X2 & Q:
-            t ^= Q - 1
-        Q >>= 1
+    t = _gray_mask(X2, M)
     X0 ^= t
     X1 ^= t
     X2 ^= t
