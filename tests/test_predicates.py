@@ -9,6 +9,7 @@ from numba import njit
 from lfqt import morton, predicates as P
 from lfqt.predicates import counters as C
 from lfqt.predicates import binade
+from lfqt.predicates.expansion import two_product
 from lfqt._input import coordinates2d, exact_coordinates2d
 
 # Magnitudes within one exactness window (the API refuses wider spans).
@@ -126,6 +127,14 @@ def test_incircle_symmetry(a, b, c, d):
     s = incircle(a, b, c, d)
     assert incircle(b, c, a, d) == s
     assert incircle(b, a, c, d) == -s
+
+
+@given(finite, finite)
+def test_two_product_is_exact(a, b):
+    # the exact stages' products: x + err is a * b, with x the rounded product
+    x, err = two_product(a, b)
+    assert x == a * b
+    assert Fraction(x) + Fraction(err) == Fraction(a) * Fraction(b)
 
 
 def test_integer_cocircular_decided_exactly():
