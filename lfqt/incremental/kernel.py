@@ -31,6 +31,7 @@ from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
 from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 
 INF = -1
+DEAD = -1  # the mark of a freed cell; live cells hold 0 or a cavity stamp (> 0)
 
 
 @njit(cache=True, inline="always")
@@ -116,10 +117,11 @@ def _initial_simplex(P, d, perm):
 
 
 # The cell storage and the cavity scratch, passed to the kernels as two
-# tuples: C (m, d+1) vertices, N (m, d+1) neighbours, alive, mark (cavity
-# stamps), vcell (a live cell of each vertex), free (the free list); stack,
+# tuples: C (m, d+1) vertices, N (m, d+1) neighbours and mark (cavity stamps,
+# DEAD for a freed cell), three views of one record per cell (_records);
+# vcell (a live cell of each vertex), free (the free list); stack,
 # conflicts, bcell/bface (cavity-boundary facets) and the ridge hash table.
-Cells = namedtuple("Cells", "C N alive mark vcell free")
+Cells = namedtuple("Cells", "C N mark vcell free")
 Scratch = namedtuple("Scratch", "stack conflicts bcell bface hkeys hvals hstamps")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
@@ -214,11 +216,10 @@ def _ridge_key(C, d, n, w, i, k):
 
 
 @njit(cache=True, inline="always")
-def _new_cell(C, N, alive, mark, vcell, d, w, x, i, p):
+def _new_cell(C, N, mark, vcell, d, w, x, i, p):
     """Cell w: the cavity cell x with vertex i replaced by p, glued to the
     cell outside x's face i."""
     y = N[u(x), u(i)]
-    alive[u(w)] = True
     mark[u(w)] = 0
     for k in range(d + 1):
         C[u(w), u(k)] = C[u(x), u(k)]
@@ -252,7 +253,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
     array is reassigned in here for the same reason.  Indices go through
     ``u`` (lfqt.indexing).  Inlined into one kernel per dimension, so that
     ``d`` is a constant there."""
-    C, N, alive, mark, vcell, free = cells
+    C, N, mark, vcell, free = cells
     stack, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
     n = perm.shape[0]
     width = d + 1
@@ -356,7 +357,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
             else:
                 w = state[NCELLS]
                 state[NCELLS] += 1
-            _new_cell(C, N, alive, mark, vcell, d, w, bcell[u(b)], i, p)
+            _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
             for k in range(width):
                 if k == i:
                     continue
@@ -374,7 +375,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
                     hkeys[u(e)] = key
                     hvals[u(e)] = w * width + k
         for q in range(nconf):
-            alive[u(conflicts[u(q)])] = False
+            mark[u(conflicts[u(q)])] = DEAD
             free[u(state[NFREE])] = conflicts[u(q)]
             state[NFREE] += 1
         counts[CONFLICTS] += nconf
@@ -396,23 +397,34 @@ def _insert_range_3d(P, perm, hint, span, pick, t0, cells, scratch, state, count
 
 
 @njit(cache=True)
+def _records(cap, width):
+    """Storage for ``cap`` cells, one record of int32 per cell, so that a
+    visit to a cell reads one or two cache lines, not one per array:
+
+        cell c:  | v0 v1 v2 v3 | n0 n1 n2 n3 | mark |     (2D: 3 + 3 + 1)
+                   C[c]          N[c]          mark[c]
+
+    Rows are written when their cell is made (_new_cell, _start)."""
+    R = np.empty((cap, 2 * width + 1), dtype=np.int32)
+    return R[:, :width], R[:, width:2 * width], R[:, 2 * width]
+
+
+@njit(cache=True)
 def _new_cells(cap, width, n):
-    return Cells(np.empty((cap, width), dtype=np.int32), np.empty((cap, width), dtype=np.int32),
-                 np.zeros(cap, dtype=np.bool_), np.zeros(cap, dtype=np.int32),
-                 np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
+    C, N, mark = _records(cap, width)
+    return Cells(C, N, mark, np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
 
 
 @njit(cache=True)
 def _grown(cells):
     """The cell storage at twice its size (vcell is per point: kept)."""
-    C, N, alive, mark, vcell, free = cells
-    grow = C.shape[0]
-    width = C.shape[1]
-    return Cells(np.concatenate((C, np.empty((grow, width), dtype=np.int32))),
-                 np.concatenate((N, np.empty((grow, width), dtype=np.int32))),
-                 np.concatenate((alive, np.zeros(grow, dtype=np.bool_))),
-                 np.concatenate((mark, np.zeros(grow, dtype=np.int32))), vcell,
-                 np.concatenate((free, np.empty(grow, dtype=np.int32))))
+    C, N, mark, vcell, free = cells
+    m = C.shape[0]
+    C2, N2, mark2 = _records(2 * m, C.shape[1])
+    C2[:m] = C
+    N2[:m] = N
+    mark2[:m] = mark
+    return Cells(C2, N2, mark2, vcell, np.concatenate((free, np.empty(m, dtype=np.int32))))
 
 
 @njit(cache=True)
@@ -428,7 +440,7 @@ def _new_scratch(size):
 def _start(P, d, s, cells):
     """The simplex of the points s (d+1 ids, reordered to be positive) and
     its d+1 infinite cells, all glued: returns the number of cells."""
-    C, N, alive, vcell = cells.C, cells.N, cells.alive, cells.vcell
+    C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
     width = d + 1
     s3 = s[3] if d == 3 else s[0]
     o, st = _orient_ids(P, d, s[0], s[1], s[2], s3)
@@ -447,7 +459,7 @@ def _start(P, d, s, cells):
         C[c, j0], C[c, j1] = C[c, j1], C[c, j0]
     ncells = width + 1
     for c in range(ncells):
-        alive[c] = True
+        mark[c] = 0
     for c in range(ncells):
         for i in range(width):
             # neighbour across face i: the other cell holding all of c's vertices but C[c, i]
@@ -485,7 +497,7 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     cells = _new_cells(capacity if capacity > 0 else max(16, 8 * n), width, n)
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
-        return cells.C[:0], cells.N[:0], cells.alive[:0], 0, dup_of, counts, False
+        return cells.C[:0], cells.N[:0], cells.mark[:0] >= 0, 0, dup_of, counts, False
     s = np.empty(width, dtype=np.int64)
     for k in range(width):
         s[k] = perm[pick[k]]
@@ -506,7 +518,7 @@ def insert_all(P, d, perm, hint, span, capacity=0):
         else:
             scratch = _new_scratch(2 * scratch.stack.shape[0])
     m = state[NCELLS]
-    return cells.C[:m], cells.N[:m], cells.alive[:m], m, dup_of, counts, True
+    return cells.C[:m], cells.N[:m], cells.mark[:m] != DEAD, m, dup_of, counts, True
 
 
 @njit(cache=True)
