@@ -497,7 +497,7 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     cells = _new_cells(capacity if capacity > 0 else max(16, 8 * n), width, n)
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
-        return cells.C[:0], cells.N[:0], cells.mark[:0] >= 0, 0, dup_of, counts, False
+        return cells.C[:0], cells.N[:0], cells.mark[:0] != DEAD, 0, dup_of, counts, False
     s = np.empty(width, dtype=np.int64)
     for k in range(width):
         s[k] = perm[pick[k]]
