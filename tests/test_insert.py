@@ -91,6 +91,15 @@ def test_explicit_order_and_bad_order():
         lfqt.insert(pts, order=(np.zeros(50, int), np.full(50, -1)))
 
 
+def test_more_points_than_int32_cell_ids_allow_is_a_clear_error(monkeypatch):
+    import lfqt.incremental as incremental
+    assert 8 * incremental.MAX_POINTS < 2 ** 31
+    monkeypatch.setattr(incremental, "MAX_POINTS", 10)
+    with pytest.raises(ValueError, match="at most 10 points"):
+        lfqt.insert(np.random.default_rng(0).random((11, 3)))
+    assert len(lfqt.insert(np.random.default_rng(0).random((10, 3))).simplices)
+
+
 def test_growth_paths_give_the_same_mesh():
     pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]  # centre: a huge cavity
     P3 = exact_points3(pts)

@@ -13,6 +13,9 @@ from . import kernel
 
 # the walk counts its orientation tests, not their stages
 _COUNTED = [NAMES[k] for k in range(N_INSERT) if k not in (ORIENT_S1, ORIENT_S2)]
+# Cell ids are int32 and the storage starts at 8 cells per point
+# (lfqt.incremental.kernel.insert_all): more points would overflow the ids.
+MAX_POINTS = (2 ** 31 - 1) // 8
 
 
 def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
@@ -46,6 +49,9 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
     t0 = time.perf_counter()
     P, s = exact_points(points, (2, 3))
     n, d = P.shape
+    if n > MAX_POINTS:
+        raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
+                         f"got {n}; lfqt.triangulate has no such limit in 2D")
     t1 = time.perf_counter()
     perm, hints, order_name = _order(P, order, hint, seed)
     t2 = time.perf_counter()
