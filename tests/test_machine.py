@@ -1,0 +1,23 @@
+import re
+from pathlib import Path
+
+from experiments import machine
+
+
+def test_transparent_hugepages_reads_the_selected_modes(tmp_path):
+    (tmp_path / "enabled").write_text("always [madvise] never\n")
+    (tmp_path / "defrag").write_text("always defer defer+madvise [madvise] never\n")
+    assert machine.transparent_hugepages(tmp_path) == {"enabled": "madvise", "defrag": "madvise"}
+
+
+def test_transparent_hugepages_without_the_files_is_empty(tmp_path):
+    assert machine.transparent_hugepages(tmp_path / "missing") == {}
+
+
+def test_machine_info_records_cpu_caches_pages_versions_and_commit():
+    info = machine.machine_info()
+    assert info["cores"] >= 1 and info["cpu"]
+    assert set(info["transparent_hugepages"]) <= {"enabled", "defrag"}
+    assert "numpy" in info["versions"] and "numba" in info["versions"]
+    if (Path(machine.__file__).parents[1] / ".git").exists():  # a checkout, not an export
+        assert re.fullmatch(r"[0-9a-f]{40}", info["commit"])
