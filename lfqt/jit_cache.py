@@ -50,14 +50,9 @@ class _PackageStamp:
         return super().from_function(py_func, py_file)
 
 
-def _locator_classes():
-    """numba's list of locators, tried in order (CacheImpl._locator_classes;
-    the names lost their underscore in numba 0.59)."""
-    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
-    return impl._locator_classes
-
-
 def _base(name):
+    """numba's caching class ``name`` (the names lost their underscore in
+    numba 0.59)."""
     return getattr(caching, name, None) or getattr(caching, "_" + name)
 
 
@@ -66,6 +61,6 @@ def _base(name):
 PACKAGE_LOCATORS = [type("Package" + name, (_PackageStamp, _base(name)), {})
                     for name in ("UserProvidedCacheLocator", "InTreeCacheLocator",
                                  "UserWideCacheLocator")]
-_classes = _locator_classes()
+_classes = _base("CacheImpl")._locator_classes  # numba's locators, tried in order
 if not any(issubclass(c, _PackageStamp) for c in _classes):
     _classes[:0] = PACKAGE_LOCATORS
