@@ -13,9 +13,9 @@ from . import kernel
 
 # the walk counts its orientation tests, not their stages
 _COUNTED = [NAMES[k] for k in range(N_INSERT) if k not in (ORIENT_S1, ORIENT_S2)]
-# Cell ids are int32 and the storage starts at 8 cells per point
-# (lfqt.incremental.kernel.insert_all): more points would overflow the ids.
-MAX_POINTS = (2 ** 31 - 1) // 8
+# Cell ids are int32 and the storage starts at kernel.CELLS_PER_POINT cells
+# per point (kernel.insert_all): more points would overflow the ids.
+MAX_POINTS = (2 ** 31 - 1) // kernel.CELLS_PER_POINT
 
 
 def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):

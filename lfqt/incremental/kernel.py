@@ -31,6 +31,7 @@ from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
 from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 
 INF = -1
+CELLS_PER_POINT = 8  # the cell storage insert_all starts with (it doubles when full)
 DEAD = -1  # the mark of a freed cell; live cells hold 0 or a cavity stamp (> 0)
 
 
@@ -494,7 +495,7 @@ def insert_all(P, d, perm, hint, span, capacity=0):
     counts = np.zeros(N_INSERT, dtype=np.int64)
     dup_of = np.arange(n)
     width = d + 1
-    cells = _new_cells(capacity if capacity > 0 else max(16, 8 * n), width, n)
+    cells = _new_cells(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), width, n)
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
         return cells.C[:0], cells.N[:0], cells.mark[:0] != DEAD, 0, dup_of, counts, False
