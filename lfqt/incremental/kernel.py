@@ -199,21 +199,37 @@ def _conflicts(P, d, C, y, p, span):
     return _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span), -1
 
 
+# The faces through p of a new cell with p in slot i, and each face's ridge
+# (its vertices other than p), as slots: FACE[d][i, j] is the j-th face,
+# RIDGE[d][i, j] its two other slots (in 2D the ridge is one vertex, twice).
+def _face_tables(d):
+    width = d + 1
+    face = np.zeros((width, d), dtype=np.int64)
+    ridge = np.zeros((width, d, 2), dtype=np.int64)
+    for i in range(width):
+        ks = [k for k in range(width) if k != i]
+        for j, k in enumerate(ks):
+            rest = [m for m in range(width) if m != i and m != k] * 2
+            face[i, j] = k
+            ridge[i, j] = rest[:2]
+    return face, ridge
+
+
+FACE2, RIDGE2 = _face_tables(2)
+FACE3, RIDGE3 = _face_tables(3)
+
+
 @njit(cache=True, inline="always")
-def _ridge_key(C, d, n, w, i, k):
-    """Key of the ridge of new cell w's face k (a face through p, p in slot
-    i): the face's vertices other than p."""
+def _ridge_key(C, d, n, w, i, j):
+    """(face, key) of new cell w's j-th face through p (p in slot i): the
+    face's slot and the key of its ridge, the face's vertices other than p."""
     if d == 2:
-        return C[u(w), u(3 - i - k)] + 1
-    ra = -2
-    rb = -2
-    for m in range(d + 1):
-        if m != i and m != k:
-            if ra == -2:
-                ra = C[u(w), u(m)]
-            else:
-                rb = C[u(w), u(m)]
-    return (min(ra, rb) + 1) * (n + 1) + max(ra, rb) + 1
+        k = FACE2[i, j]
+        return k, C[u(w), u(RIDGE2[i, j, 0])] + 1
+    k = FACE3[i, j]
+    ra = C[u(w), u(RIDGE3[i, j, 0])]
+    rb = C[u(w), u(RIDGE3[i, j, 1])]
+    return k, (min(ra, rb) + 1) * (n + 1) + max(ra, rb) + 1
 
 
 @njit(cache=True, inline="always")
@@ -359,10 +375,8 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
                 w = state[NCELLS]
                 state[NCELLS] += 1
             _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
-            for k in range(width):
-                if k == i:
-                    continue
-                key = _ridge_key(C, d, n, w, i, k)
+            for j in range(d):
+                k, key = _ridge_key(C, d, n, w, i, j)
                 # Fibonacci hashing: the product's high bits
                 e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
                 while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
