@@ -21,6 +21,10 @@ inserted point to start locating from (-1: none).
 * ``random`` and ``input``.
 
 For every order but the Kd ones the hint is the point inserted just before.
+
+``layout`` adds a permutation along space to lay the points out in memory
+by, whatever order inserts them: the Kd-tree's in-order comes free with the
+Kd orders, the Hilbert order with "hilbert", a coarse Hilbert sort otherwise.
 """
 import numpy as np
 from numba import njit
@@ -82,6 +86,13 @@ def _select_axis(X, ids, lo, hi, k, axis):
 
 @njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
+    """(perm, hint, inorder): the breadth-first labels and their hints, and
+    the ids as the median selections leave them, the tree's in-order: every
+    subtree a contiguous range with its median in the middle::
+
+        inorder   [ left subtree | median | right subtree ]
+                    [ l | m | r ]            [ l | m | r ]
+    """
     n, d = P.shape
     ids = np.arange(n)
     X = P.copy()
@@ -140,7 +151,7 @@ def kdtree_order(P, alternate, sibling):
             q_sib[tail] = left_slot
             tail += 1
         head += 1
-    return perm, hint
+    return perm, hint, ids
 
 
 @njit(cache=True, inline="always")
@@ -333,6 +344,27 @@ def _previous_as_hint(perm):
 
 def order(points, name="kdtree", *, hint="parent", seed=0):
     """(perm, hint) for inserting ``points`` (n, d) in order ``name``."""
+    perm, h, _ = _order(points, name, hint, seed)
+    return perm, h
+
+
+def layout(points, name="kdtree", *, hint="parent", seed=0):
+    """(perm, hint, store): ``order``'s pair, and ``store``, a permutation of
+    the points along space to lay them out in memory by (the Kd-tree's
+    in-order, the Hilbert order itself, or a coarse Hilbert sort)."""
+    perm, h, store = _order(points, name, hint, seed)
+    if store is None:
+        P = np.ascontiguousarray(points, dtype=np.float64)
+        # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine
+        # enough for locality, and cheaper to index than 31/21 bits.
+        bits = 16 if P.shape[1] == 2 else 10
+        store = (sorted_by_key(hilbert_keys(P, np.arange(len(P)), bits)) if len(P)
+                 else np.arange(0))
+    return perm, h, store
+
+
+def _order(points, name, hint, seed):
+    """(perm, hint, store or None when the order gives none for free)."""
     P = np.ascontiguousarray(points, dtype=np.float64)
     n = len(P)
     if name not in ORDERS:
@@ -340,15 +372,16 @@ def order(points, name="kdtree", *, hint="parent", seed=0):
     if hint not in ("parent", "sibling"):
         raise ValueError("hint must be 'parent' or 'sibling'")
     if name in ("kdtree", "kdtree-alternate"):
-        perm, h = kdtree_order(P, name == "kdtree-alternate", hint == "sibling")
-        return perm, h
+        return kdtree_order(P, name == "kdtree-alternate", hint == "sibling")
     rng = np.random.default_rng(seed)
+    store = None
     if name == "input":
         perm = np.arange(n, dtype=np.int64)
     elif name == "random":
         perm = rng.permutation(n).astype(np.int64)
     elif name in ("hilbert", "hilbert-grid"):
         perm = _hilbert_sorted(P, np.arange(n, dtype=np.int64), grid=name == "hilbert-grid")
+        store = perm
     else:  # brio
         shuffled = rng.permutation(n).astype(np.int64)
         ratio = BRIO_RATIO[P.shape[1]]
@@ -358,4 +391,4 @@ def order(points, name="kdtree", *, hint="parent", seed=0):
         cuts.append(0)
         rounds = [shuffled[cuts[i + 1]:cuts[i]] for i in range(len(cuts) - 1)][::-1]
         perm = np.concatenate([_hilbert_sorted(P, r) for r in rounds]) if n else shuffled
-    return perm, _previous_as_hint(perm)
+    return perm, _previous_as_hint(perm), store

@@ -25,6 +25,28 @@ def test_kdtree_matches_the_papers_15_point_example():
     assert (hint[1:3] + 1).tolist() == [8, 8] and (hint[3:7] + 1).tolist() == [4, 4, 12, 12]
 
 
+def test_kdtree_layout_is_the_trees_in_order():
+    # the 15-point line: in-order of the median tree is the line itself
+    pts = np.c_[np.arange(1, 16, dtype=float), np.zeros(15)][::-1]
+    perm, hint, store = orders.layout(pts, "kdtree")
+    assert np.array_equal(pts[store, 0], np.arange(1, 16))
+    assert np.array_equal((perm, hint), orders.order(pts, "kdtree"))
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("name", orders.ORDERS)
+def test_layouts_are_permutations_along_space(name, d, rng):
+    pts = rng.random((4096, d))
+    perm, hint, store = orders.layout(pts, name)
+    assert np.array_equal((perm, hint), orders.order(pts, name))
+    assert sorted(store.tolist()) == list(range(4096))
+    if name == "hilbert":
+        assert np.array_equal(store, perm)
+    # consecutive points are near: far closer than in input (random) order
+    step = np.linalg.norm(np.diff(pts[store], axis=0), axis=1).mean()
+    assert step < 0.25 * np.linalg.norm(np.diff(pts, axis=0), axis=1).mean()
+
+
 def test_kdtree_cuts_the_longest_edge_and_alternate_does_not():
     pts = np.c_[np.linspace(0, 1, 9), np.linspace(0, 100, 9)[np.random.default_rng(0).permutation(9)]]
     perm, _ = orders.order(pts, "kdtree")

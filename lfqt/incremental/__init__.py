@@ -53,13 +53,13 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
         raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
                          f"got {n}; lfqt.triangulate has no such limit in 2D")
     t1 = time.perf_counter()
-    perm, hints, order_name = _order(P, order, hint, seed)
+    perm, hints, order_name, store = _order(P, order, hint, seed)
     t2 = time.perf_counter()
     span = kernel.coordinate_span(P)
-    # Store the points in Hilbert order: vertex ids then follow space, so the
-    # cells and coordinates a walk touches are close in memory whatever the
-    # insertion order (the Kd order jumps across space at every level).
-    store = _storage_order(P)
+    # Store the points along space (orders.layout): vertex ids then follow
+    # space, so the cells and coordinates a walk touches are close in memory
+    # whatever the insertion order (the Kd order jumps across space at every
+    # level).
     rank = np.empty(n, dtype=np.int64)
     rank[store] = np.arange(n)
     hint_ids = np.where(hints >= 0, rank[np.maximum(hints, 0)], -1)
@@ -98,16 +98,17 @@ def insert(points, *, order="kdtree", hint=None, counters=True, seed=0):
 
 
 def _order(P, order, hint, seed):
-    """(perm, hints, name) of the insertion order."""
+    """(perm, hints, name, store) of the insertion order and the points'
+    layout in memory (lfqt.orders.layout)."""
     n = len(P)
     if isinstance(order, tuple):
         perm, hints = (np.asarray(a, dtype=np.int64) for a in order)
         if sorted(perm.tolist()) != list(range(n)) or len(hints) != n:
             raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
                              "range(n) and one hint per point")
-        return perm, hints, "explicit"
-    perm, hints = orders.order(P, order, hint=hint or "parent", seed=seed)
-    return perm, hints, order
+        return perm, hints, "explicit", orders.layout(P, "input")[2]
+    perm, hints, store = orders.layout(P, order, hint=hint or "parent", seed=seed)
+    return perm, hints, order, store
 
 
 def _first_of_duplicates(simplices, hull, dup_of):
@@ -137,16 +138,6 @@ def _degenerate(P):
         dup_of = first[inv.ravel()]
     empty = np.empty((0, d + 1), dtype=np.int32)
     return empty, empty.copy(), hull, dup_of, reason
-
-
-def _storage_order(P):
-    """A permutation of the rows of P along a Hilbert curve (2D or 3D)."""
-    if len(P) == 0:
-        return np.arange(0)
-    # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine enough
-    # for locality, and cheaper to index than the order's 31/21 bits.
-    bits = 16 if P.shape[1] == 2 else 10
-    return orders.sorted_by_key(orders.hilbert_keys(P, np.arange(len(P)), bits))
 
 
 def _chain_hull(edges):
