@@ -48,38 +48,86 @@ def _swap_rows(X, ids, i, j):
         X[u(j), a] = v
 
 
+@njit(cache=True, inline="always")
+def _before(X, ids, i, axis, pv, pi):
+    """Row i comes before the pivot (value pv, id pi): by value, ties by id.
+    Without short-circuits, so that it compiles to no branch."""
+    v = X[u(i), axis]
+    return (v < pv) | ((v == pv) & (ids[u(i)] < pi))
+
+
+_BLOCK = 64  # rows classified per block of the branch-free partition
+
+
+@njit(cache=True, inline="always")
+def _partition(X, ids, a, b, axis, pv, pi, off_l, off_r):
+    """Partition rows [a, b) into those before the pivot, then the others;
+    returns where the others start.  Blocks of rows are classified without
+    branches into offset buffers, and only misplaced rows are swapped, in
+    pairs (BlockQuicksort, Edelkamp and Weiss 2016): a comparison that goes
+    either way at random costs no misprediction::
+
+        [ before | left block ->  ...  <- right block | not before ]
+          a        l                                r              b
+    """
+    l = a
+    r = b
+    n_l = n_r = s_l = s_r = 0
+    while r - l > 2 * _BLOCK:
+        if n_l == 0:
+            s_l = 0
+            for j in range(_BLOCK):
+                off_l[n_l] = j
+                n_l += not _before(X, ids, l + j, axis, pv, pi)
+        if n_r == 0:
+            s_r = 0
+            for j in range(_BLOCK):
+                off_r[n_r] = j
+                n_r += _before(X, ids, r - 1 - j, axis, pv, pi)
+        m = min(n_l, n_r)
+        for j in range(m):
+            _swap_rows(X, ids, l + off_l[s_l + j], r - 1 - off_r[s_r + j])
+        n_l -= m
+        n_r -= m
+        s_l += m
+        s_r += m
+        if n_l == 0:
+            l += _BLOCK
+        if n_r == 0:
+            r -= _BLOCK
+    # the rest, half-classified blocks included: [a, l) is before, [r, b) not
+    for j in range(l, r):  # Lomuto's, swapping always: [l, j) is not before
+        b = _before(X, ids, j, axis, pv, pi)
+        _swap_rows(X, ids, l, j)
+        l += b
+    return l
+
+
 @njit(cache=True)
-def _select_axis(X, ids, lo, hi, k, axis):
+def _select_axis(X, ids, lo, hi, k, axis, off_l, off_r):
     """Partition rows [lo, hi) of X (coordinates, kept in step with ids) by
     X[:, axis] so that row k holds the element of rank k - lo
     (nth_element); ties broken by id for determinism.  Moving the
-    coordinates with the ids keeps every pass sequential in memory."""
+    coordinates with the ids keeps every pass sequential in memory.
+    off_l, off_r: _BLOCK offsets of scratch each (_partition)."""
     while hi - lo > 1:
         mid = (lo + hi) >> 1
         va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
-        a, b, c = ids[u(lo)], ids[u(mid)], ids[u(hi - 1)]
-        # median of three values
+        # median of three values, moved to the end while the rest is split
         if (va <= vb) == (vb <= vc):
-            pv, pi = vb, b
+            p = mid
         elif (vb <= va) == (va <= vc):
-            pv, pi = va, a
+            p = lo
         else:
-            pv, pi = vc, c
-        i = lo
-        j = hi - 1
-        while i <= j:
-            while X[u(i), axis] < pv or (X[u(i), axis] == pv and ids[u(i)] < pi):
-                i += 1
-            while X[u(j), axis] > pv or (X[u(j), axis] == pv and ids[u(j)] > pi):
-                j -= 1
-            if i <= j:
-                _swap_rows(X, ids, i, j)
-                i += 1
-                j -= 1
-        if k <= j:
-            hi = j + 1
-        elif k >= i:
-            lo = i
+            p = hi - 1
+        _swap_rows(X, ids, p, hi - 1)
+        pv, pi = X[u(hi - 1), axis], ids[u(hi - 1)]
+        at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off_l, off_r)
+        _swap_rows(X, ids, at, hi - 1)
+        if k < at:
+            hi = at
+        elif k > at:
+            lo = at + 1
         else:
             return
 
@@ -106,6 +154,8 @@ def kdtree_order(P, alternate, sibling):
     q_depth = np.empty(n, dtype=np.int64)
     mn = np.empty(d)
     mx = np.empty(d)
+    off_l = np.empty(_BLOCK, dtype=np.int64)
+    off_r = np.empty(_BLOCK, dtype=np.int64)
     head = 0
     tail = 0
     if n:
@@ -137,7 +187,7 @@ def kdtree_order(P, alternate, sibling):
                     best = mx[a] - mn[a]
                     axis = a
         m = lo + (hi - lo) // 2
-        _select_axis(X, ids, lo, hi, m, axis)
+        _select_axis(X, ids, lo, hi, m, axis, off_l, off_r)
         v = ids[m]
         perm[head] = v
         hint[head] = sib if (sibling and sib >= 0) else parent
@@ -263,7 +313,8 @@ def _median_split(ids, lo, hi, X, axis, up):
     if hi - lo < 2:
         return lo + (hi - lo) // 2
     mid = lo + (hi - lo) // 2
-    _select_axis(X, ids, lo, hi, mid, axis)
+    _select_axis(X, ids, lo, hi, mid, axis, np.empty(_BLOCK, dtype=np.int64),
+                 np.empty(_BLOCK, dtype=np.int64))
     if up:
         return mid
     i = lo

@@ -34,6 +34,28 @@ def test_kdtree_layout_is_the_trees_in_order():
 
 
 @pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("kind", ["uniform", "ties", "sorted"])
+def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rng):
+    n = 3000  # ranges above and below the branch-free partition's block size
+    pts = {"uniform": rng.random((n, d)), "ties": rng.integers(0, 5, (n, d)).astype(float),
+           "sorted": np.sort(rng.random((n, d)), axis=0)}[kind]
+    perm, hint, store = orders.layout(pts, "kdtree")
+    labels = []
+    queue = [(0, n, -1)]
+    for lo, hi, parent in queue:  # breadth first over the implicit ranges
+        m = lo + (hi - lo) // 2
+        sub = pts[store[lo:hi]]
+        axis = int(np.argmax(sub.max(axis=0) - sub.min(axis=0)))
+        key = [(pts[i, axis], i) for i in store[lo:hi]]
+        assert all(k < key[m - lo] for k in key[:m - lo])
+        assert all(k > key[m - lo] for k in key[m - lo + 1:])
+        labels.append((store[m], parent))
+        queue += [(a, b, store[m]) for a, b in ((lo, m), (m + 1, hi)) if b > a]
+    assert [v for v, _ in labels] == perm.tolist()
+    assert [p for _, p in labels] == hint.tolist()
+
+
+@pytest.mark.parametrize("d", [2, 3])
 @pytest.mark.parametrize("name", orders.ORDERS)
 def test_layouts_are_permutations_along_space(name, d, rng):
     pts = rng.random((4096, d))
