@@ -100,6 +100,16 @@ def test_more_points_than_int32_cell_ids_allow_is_a_clear_error(monkeypatch):
     assert len(lfqt.insert(np.random.default_rng(0).random((10, 3))).simplices)
 
 
+def test_more_cells_than_int32_ids_allow_is_a_clear_error():
+    pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]
+    P3 = exact_points3(pts)
+    perm, hint = np.arange(len(pts)), np.full(len(pts), -1)
+    full = insert_all(P3, 3, perm, hint, 16.0, 8)[3]  # cells used, growing from 8
+    assert insert_all(P3, 3, perm, hint, 16.0, 8, full)[3] == full  # exactly enough
+    with pytest.raises(ValueError, match="int32"):
+        insert_all(P3, 3, perm, hint, 16.0, 8, full - 1)
+
+
 def test_growth_paths_give_the_same_mesh():
     pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]  # centre: a huge cavity
     P3 = exact_points3(pts)

@@ -32,6 +32,7 @@ from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 
 INF = -1
 CELLS_PER_POINT = 8  # the cell storage insert_all starts with (it doubles when full)
+MAX_CELLS = 2 ** 31 - 1  # cell ids are int32: the storage grows no further
 DEAD = -1  # the mark of a freed cell; live cells hold 0 or a cavity stamp (> 0)
 
 
@@ -431,15 +432,15 @@ def _new_cells(cap, width, n):
 
 
 @njit(cache=True)
-def _grown(cells):
-    """The cell storage at twice its size (vcell is per point: kept)."""
+def _grown(cells, size):
+    """The cell storage at ``size`` cells (vcell is per point: kept)."""
     C, N, mark, vcell, free = cells
     m = C.shape[0]
-    C2, N2, mark2 = _records(2 * m, C.shape[1])
+    C2, N2, mark2 = _records(size, C.shape[1])
     C2[:m] = C
     N2[:m] = N
     mark2[:m] = mark
-    return Cells(C2, N2, mark2, vcell, np.concatenate((free, np.empty(m, dtype=np.int32))))
+    return Cells(C2, N2, mark2, vcell, np.concatenate((free, np.empty(size - m, dtype=np.int32))))
 
 
 @njit(cache=True)
@@ -502,9 +503,11 @@ def coordinate_span(P):
 
 
 @njit(cache=True, nogil=True)
-def insert_all(P, d, perm, hint, span, capacity=0):
+def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS):
     """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
-    counts, ok).  ok is False when the points span fewer than d dimensions."""
+    counts, ok).  ok is False when the points span fewer than d dimensions.
+    Raises ValueError when the triangulation needs more than ``max_cells``
+    cells (a 3D Delaunay triangulation may have quadratically many)."""
     n = P.shape[0]
     counts = np.zeros(N_INSERT, dtype=np.int64)
     dup_of = np.arange(n)
@@ -529,7 +532,10 @@ def insert_all(P, d, perm, hint, span, capacity=0):
         if reason == 0:
             break
         if reason == 1:
-            cells = _grown(cells)
+            m = cells.C.shape[0]
+            if m >= max_cells:
+                raise ValueError("the triangulation needs more cells than int32 ids can number")
+            cells = _grown(cells, min(2 * m, max_cells))
         else:
             scratch = _new_scratch(2 * scratch.stack.shape[0])
     m = state[NCELLS]
