@@ -14,7 +14,7 @@ import numpy as np
 
 import generators
 import lfqt
-from lfqt import morton, radix
+from lfqt import morton, orders, radix
 from lfqt.workers import Workers
 
 
@@ -155,6 +155,22 @@ class TimeInsertLarge:
 
     def time_insert_kdtree(self, dist, n):
         lfqt.insert(self.points, order="kdtree")
+
+
+class TimeOrder:
+    """Building the insertion orders at 1M points: part of every insertion
+    timing above (bench_insert includes it, as paper 2 does)."""
+    params = (["kdtree", "hilbert", "brio"], [2, 3], [1_000_000])
+    param_names = ["order", "dimension", "n"]
+    number = 1
+    repeat = 5
+
+    def setup(self, order, d, n):
+        self.points = np.random.default_rng(0).random((n, d))
+        orders.order(self.points[:1000], order)
+
+    def time_order(self, order, d, n):
+        orders.order(self.points, order)
 
 
 class TimeRadix:

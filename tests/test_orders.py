@@ -34,11 +34,14 @@ def test_kdtree_layout_is_the_trees_in_order():
 
 
 @pytest.mark.parametrize("d", [2, 3])
-@pytest.mark.parametrize("kind", ["uniform", "ties", "sorted"])
+@pytest.mark.parametrize("kind", ["uniform", "ties", "sorted", "two values", "organ pipe"])
 def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rng):
     n = 3000  # ranges above and below the branch-free partition's block size
+    pipe = np.minimum(np.arange(n), n - np.arange(n)).astype(float)  # unbalances median of 3
     pts = {"uniform": rng.random((n, d)), "ties": rng.integers(0, 5, (n, d)).astype(float),
-           "sorted": np.sort(rng.random((n, d)), axis=0)}[kind]
+           "sorted": np.sort(rng.random((n, d)), axis=0),
+           "two values": rng.integers(0, 2, (n, d)).astype(float),
+           "organ pipe": np.c_[pipe, rng.random((n, d - 1)) * 1e-3]}[kind]
     perm, hint, store = orders.layout(pts, "kdtree")
     labels = []
     queue = [(0, n, -1)]
