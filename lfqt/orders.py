@@ -97,9 +97,9 @@ def _partition(X, ids, a, b, axis, pv, pi, off_l, off_r):
             r -= _BLOCK
     # the rest, half-classified blocks included: [a, l) is before, [r, b) not
     for j in range(l, r):  # Lomuto's, swapping always: [l, j) is not before
-        b = _before(X, ids, j, axis, pv, pi)
+        before = _before(X, ids, j, axis, pv, pi)
         _swap_rows(X, ids, l, j)
-        l += b
+        l += before
     return l
 
 

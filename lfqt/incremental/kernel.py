@@ -203,6 +203,11 @@ def _conflicts(P, d, C, y, p, span):
 # The faces through p of a new cell with p in slot i, and each face's ridge
 # (its vertices other than p), as slots: FACE[d][i, j] is the j-th face,
 # RIDGE[d][i, j] its two other slots (in 2D the ridge is one vertex, twice).
+# In 3D with p in slot 1:
+#
+#     j          0        1        2
+#     face       0        2        3        (the face opposite that slot)
+#     ridge    (2, 3)   (0, 3)   (0, 2)     (its slots other than p's)
 def _face_tables(d):
     width = d + 1
     face = np.zeros((width, d), dtype=np.int64)
