@@ -60,10 +60,12 @@ _BLOCK = 64  # rows classified per block of the branch-free partition
 
 
 @njit(cache=True, inline="always")
-def _partition(X, ids, a, b, axis, pv, pi, off_l, off_r):
+def _partition(X, ids, a, b, axis, pv, pi, off):
     """Partition rows [a, b) into those before the pivot, then the others;
     returns where the others start.  Blocks of rows are classified without
-    branches into offset buffers, and only misplaced rows are swapped, in
+    branches into offset buffers (``off``: the left block's in its first
+    _BLOCK entries, the right one's in the rest), and only misplaced rows
+    are swapped, in
     pairs (BlockQuicksort, Edelkamp and Weiss 2016): a comparison that goes
     either way at random costs no misprediction::
 
@@ -77,16 +79,16 @@ def _partition(X, ids, a, b, axis, pv, pi, off_l, off_r):
         if n_l == 0:
             s_l = 0
             for j in range(_BLOCK):
-                off_l[n_l] = j
+                off[n_l] = j
                 n_l += not _before(X, ids, l + j, axis, pv, pi)
         if n_r == 0:
             s_r = 0
             for j in range(_BLOCK):
-                off_r[n_r] = j
+                off[_BLOCK + n_r] = j
                 n_r += _before(X, ids, r - 1 - j, axis, pv, pi)
         m = min(n_l, n_r)
         for j in range(m):
-            _swap_rows(X, ids, l + off_l[s_l + j], r - 1 - off_r[s_r + j])
+            _swap_rows(X, ids, l + off[s_l + j], r - 1 - off[_BLOCK + s_r + j])
         n_l -= m
         n_r -= m
         s_l += m
@@ -104,12 +106,13 @@ def _partition(X, ids, a, b, axis, pv, pi, off_l, off_r):
 
 
 @njit(cache=True)
-def _select_axis(X, ids, lo, hi, k, axis, off_l, off_r):
+def _select_axis(X, ids, lo, hi, k, axis, off):
     """Partition rows [lo, hi) of X (coordinates, kept in step with ids) by
     X[:, axis] so that row k holds the element of rank k - lo
     (nth_element); ties broken by id for determinism.  Moving the
     coordinates with the ids keeps every pass sequential in memory.
-    off_l, off_r: _BLOCK offsets of scratch each (_partition)."""
+    off: scratch for 2 * _BLOCK offsets (_partition), allocated once by the
+    caller for all its selections."""
     while hi - lo > 1:
         mid = (lo + hi) >> 1
         va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
@@ -122,7 +125,7 @@ def _select_axis(X, ids, lo, hi, k, axis, off_l, off_r):
             p = hi - 1
         _swap_rows(X, ids, p, hi - 1)
         pv, pi = X[u(hi - 1), axis], ids[u(hi - 1)]
-        at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off_l, off_r)
+        at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off)
         _swap_rows(X, ids, at, hi - 1)
         if k < at:
             hi = at
@@ -154,8 +157,7 @@ def kdtree_order(P, alternate, sibling):
     q_depth = np.empty(n, dtype=np.int64)
     mn = np.empty(d)
     mx = np.empty(d)
-    off_l = np.empty(_BLOCK, dtype=np.int64)
-    off_r = np.empty(_BLOCK, dtype=np.int64)
+    off = np.empty(2 * _BLOCK, dtype=np.int64)
     head = 0
     tail = 0
     if n:
@@ -187,7 +189,7 @@ def kdtree_order(P, alternate, sibling):
                     best = mx[a] - mn[a]
                     axis = a
         m = lo + (hi - lo) // 2
-        _select_axis(X, ids, lo, hi, m, axis, off_l, off_r)
+        _select_axis(X, ids, lo, hi, m, axis, off)
         v = ids[m]
         perm[head] = v
         hint[head] = sib if (sibling and sib >= 0) else parent
@@ -306,15 +308,14 @@ def hilbert_keys(P, ids, bits=0):
 
 
 @njit(cache=True)
-def _median_split(ids, lo, hi, X, axis, up):
+def _median_split(ids, lo, hi, X, axis, up, off):
     """Split rows [lo, hi) of X and ids at their median along ``axis``: the
     lower half first when ``up``, the upper half first otherwise; returns
-    the split position."""
+    the split position.  off: _select_axis's scratch."""
     if hi - lo < 2:
         return lo + (hi - lo) // 2
     mid = lo + (hi - lo) // 2
-    _select_axis(X, ids, lo, hi, mid, axis, np.empty(_BLOCK, dtype=np.int64),
-                 np.empty(_BLOCK, dtype=np.int64))
+    _select_axis(X, ids, lo, hi, mid, axis, off)
     if up:
         return mid
     i = lo
@@ -327,40 +328,40 @@ def _median_split(ids, lo, hi, X, axis, up):
 
 
 @njit(cache=True, nogil=True)
-def _hilbert_median_2d(X, ids, lo, hi, x, upx, upy):
+def _hilbert_median_2d(X, ids, lo, hi, x, upx, upy, off):
     if hi - lo <= 1:
         return
     y = 1 - x
-    m2 = _median_split(ids, lo, hi, X, x, upx)
-    m1 = _median_split(ids, lo, m2, X, y, upy)
-    m3 = _median_split(ids, m2, hi, X, y, not upy)
-    _hilbert_median_2d(X, ids, lo, m1, y, upy, upx)
-    _hilbert_median_2d(X, ids, m1, m2, x, upx, upy)
-    _hilbert_median_2d(X, ids, m2, m3, x, upx, upy)
-    _hilbert_median_2d(X, ids, m3, hi, y, not upy, not upx)
+    m2 = _median_split(ids, lo, hi, X, x, upx, off)
+    m1 = _median_split(ids, lo, m2, X, y, upy, off)
+    m3 = _median_split(ids, m2, hi, X, y, not upy, off)
+    _hilbert_median_2d(X, ids, lo, m1, y, upy, upx, off)
+    _hilbert_median_2d(X, ids, m1, m2, x, upx, upy, off)
+    _hilbert_median_2d(X, ids, m2, m3, x, upx, upy, off)
+    _hilbert_median_2d(X, ids, m3, hi, y, not upy, not upx, off)
 
 
 @njit(cache=True, nogil=True)
-def _hilbert_median_3d(X, ids, lo, hi, x, upx, upy, upz):
+def _hilbert_median_3d(X, ids, lo, hi, x, upx, upy, upz, off):
     if hi - lo <= 1:
         return
     y = (x + 1) % 3
     z = (x + 2) % 3
-    m4 = _median_split(ids, lo, hi, X, x, upx)
-    m2 = _median_split(ids, lo, m4, X, y, upy)
-    m1 = _median_split(ids, lo, m2, X, z, upz)
-    m3 = _median_split(ids, m2, m4, X, z, not upz)
-    m6 = _median_split(ids, m4, hi, X, y, not upy)
-    m5 = _median_split(ids, m4, m6, X, z, upz)
-    m7 = _median_split(ids, m6, hi, X, z, not upz)
-    _hilbert_median_3d(X, ids, lo, m1, z, upz, upx, upy)
-    _hilbert_median_3d(X, ids, m1, m2, y, upy, upz, upx)
-    _hilbert_median_3d(X, ids, m2, m3, y, upy, upz, upx)
-    _hilbert_median_3d(X, ids, m3, m4, x, upx, not upy, not upz)
-    _hilbert_median_3d(X, ids, m4, m5, x, upx, not upy, not upz)
-    _hilbert_median_3d(X, ids, m5, m6, y, not upy, upz, not upx)
-    _hilbert_median_3d(X, ids, m6, m7, y, not upy, upz, not upx)
-    _hilbert_median_3d(X, ids, m7, hi, z, not upz, not upx, upy)
+    m4 = _median_split(ids, lo, hi, X, x, upx, off)
+    m2 = _median_split(ids, lo, m4, X, y, upy, off)
+    m1 = _median_split(ids, lo, m2, X, z, upz, off)
+    m3 = _median_split(ids, m2, m4, X, z, not upz, off)
+    m6 = _median_split(ids, m4, hi, X, y, not upy, off)
+    m5 = _median_split(ids, m4, m6, X, z, upz, off)
+    m7 = _median_split(ids, m6, hi, X, z, not upz, off)
+    _hilbert_median_3d(X, ids, lo, m1, z, upz, upx, upy, off)
+    _hilbert_median_3d(X, ids, m1, m2, y, upy, upz, upx, off)
+    _hilbert_median_3d(X, ids, m2, m3, y, upy, upz, upx, off)
+    _hilbert_median_3d(X, ids, m3, m4, x, upx, not upy, not upz, off)
+    _hilbert_median_3d(X, ids, m4, m5, x, upx, not upy, not upz, off)
+    _hilbert_median_3d(X, ids, m5, m6, y, not upy, upz, not upx, off)
+    _hilbert_median_3d(X, ids, m6, m7, y, not upy, upz, not upx, off)
+    _hilbert_median_3d(X, ids, m7, hi, z, not upz, not upx, upy, off)
 
 
 def _hilbert_sorted(P, ids, grid=False):
@@ -369,10 +370,11 @@ def _hilbert_sorted(P, ids, grid=False):
         return ids[sorted_by_key(hilbert_keys(P, ids))]
     ids = np.array(ids, dtype=np.int64)
     X = np.ascontiguousarray(P[ids])
+    off = np.empty(2 * _BLOCK, dtype=np.int64)
     if P.shape[1] == 2:
-        _hilbert_median_2d(X, ids, 0, len(ids), 0, True, True)
+        _hilbert_median_2d(X, ids, 0, len(ids), 0, True, True, off)
     else:
-        _hilbert_median_3d(X, ids, 0, len(ids), 0, True, True, True)
+        _hilbert_median_3d(X, ids, 0, len(ids), 0, True, True, True, off)
     return ids
 
 
@@ -403,9 +405,9 @@ def layout(points, name="kdtree", *, hint="parent", seed=0):
     """(perm, hint, store): ``order``'s pair, and ``store``, a permutation of
     the points along space to lay them out in memory by (the Kd-tree's
     in-order, the Hilbert order itself, or a coarse Hilbert sort)."""
-    perm, h, store = _order(points, name, hint, seed)
+    P = np.ascontiguousarray(points, dtype=np.float64)  # once: _order's is then free
+    perm, h, store = _order(P, name, hint, seed)
     if store is None:
-        P = np.ascontiguousarray(points, dtype=np.float64)
         # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine
         # enough for locality, and cheaper to index than 31/21 bits.
         bits = 16 if P.shape[1] == 2 else 10
