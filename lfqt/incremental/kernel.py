@@ -537,10 +537,10 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS):
         if reason == 0:
             break
         if reason == 1:
-            m = cells.C.shape[0]
-            if m >= max_cells:
+            cap = cells.C.shape[0]
+            if cap >= max_cells:
                 raise ValueError("the triangulation needs more cells than int32 ids can number")
-            cells = _grown(cells, min(2 * m, max_cells))
+            cells = _grown(cells, min(2 * cap, max_cells))
         else:
             scratch = _new_scratch(2 * scratch.stack.shape[0])
     m = state[NCELLS]
