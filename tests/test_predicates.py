@@ -9,7 +9,8 @@ from numba import njit
 from lfqt import morton, predicates as P
 from lfqt.predicates import counters as C
 from lfqt.predicates import binade
-from lfqt.predicates.expansion import two_product
+from lfqt.predicates import planar
+from lfqt.predicates.expansion import EPS, two_product
 from lfqt._input import coordinates2d, exact_coordinates2d
 
 # Magnitudes within one exactness window (the API refuses wider spans).
@@ -120,6 +121,59 @@ def test_incircle_exact_near_cocircular(pts):
     assert incircle(*pts) == expected
     a, b, c, d = in_window(*pts)
     assert sign(P.incircle_exact(*a, *b, *c, *d)) == expected
+
+
+def _incircle_diffs_ref(adx, ady, bdx, bdy, cdx, cdy):
+    """(exact determinant, permanent) of the in-circle form of differences."""
+    a, b, c = ((Fraction(adx), Fraction(ady)), (Fraction(bdx), Fraction(bdy)),
+               (Fraction(cdx), Fraction(cdy)))
+    det = perm = Fraction(0)
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        lift = p[0] * p[0] + p[1] * p[1]
+        det += lift * (q[0] * r[1] - r[0] * q[1])
+        perm += lift * (abs(q[0] * r[1]) + abs(r[0] * q[1]))
+    return det, perm
+
+
+@given(st.one_of(near_circle(), st.tuples(point, point, point, point)))
+def test_incircle_double_double_within_its_bound(pts):
+    # _incircle_dd's derivation: hi + lo within ICC_DD_DERIVED P of the
+    # determinant of its (exact double) arguments, then one rounding.
+    # Near-cocircular sets, whose determinant cancels to about u P, are the
+    # ones that reach it in the predicate.
+    (ax, ay), (bx, by), (cx, cy), (dx, dy) = in_window(*pts)
+    diffs = (ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy)
+    det, perm = _incircle_diffs_ref(*diffs)
+    assume(planar.DD_FLOOR <= perm <= planar.DD_CEIL)
+    got = Fraction(planar._incircle_dd(*diffs))
+    u = Fraction(EPS)
+    assert abs(got - det) <= Fraction(planar.ICC_DD_DERIVED) * perm + u * abs(got)
+    # the predicate's threshold leaves room for the permanent's roundings
+    assert planar.ICC_DD * (1 - 8 * EPS) > planar.ICC_DD_DERIVED * (1 + 2 * EPS)
+
+
+def test_incircle_exactly_cocircular_beyond_the_integer_path():
+    # A rectangle's corners are cocircular whatever their coordinates.  With
+    # exact differences too long for the int64 path, the double-double stage
+    # cannot decide 0 and must hand it to the expansions, which return 0.
+    x0, x1 = 1.0, 1.0 + 12345679 * 2.0 ** -40
+    y0, y1 = 1.5, 1.5 + 987654321 * 2.0 ** -45
+    cnt = P.new_counters()
+    assert P.incircle(x0, y0, x1, y0, x1, y1, x0, y1, P.ICC_A, cnt) == 0.0
+    assert cnt[C.INCIRCLE_S1] == 1 and cnt[C.INCIRCLE_S2] == 0
+    # one ulp outside the circle (d moved away from the rectangle)
+    assert P.incircle(x0, y0, x1, y0, x1, y1, np.nextafter(x0, 0.0), y1, P.ICC_A, cnt) < 0.0
+
+
+def test_incircle_rounded_circle_decided_before_the_exact_stage():
+    # gDel2D's circle: four neighbours on a circle rounded to doubles are
+    # decided by stage B (double-double) or its C1 step, with the exact sign.
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        t = np.sort(rng.random(4)) * 0.01 + rng.random() * 6.0
+        pts = [(0.45 * np.cos(v), 0.45 * np.sin(v)) for v in t]
+        flat = [c for p in pts for c in p]
+        assert sign(P.incircle(*flat, P.ICC_A, P.new_counters())) == incircle_ref(*pts)
 
 
 @given(point, point, point, point)

@@ -12,8 +12,12 @@ an estimate.  Three stages, named as in Shewchuk's predicates.c:
    static filter; ``static_bounds``).  What it leaves goes on to the dynamic
    test, so the stage that decides a call is the same with or without it;
 2. ``*_adapt`` stage B: the determinant of the *rounded* coordinate
-   differences, computed exactly as an expansion.  It decides when the
-   differences were exact or when it clears ``CCW_B`` / ``ICC_B``;
+   differences.  It decides when the differences were exact or when it
+   clears ``CCW_B`` / ``ICC_B``.  Orientation computes it exactly as an
+   expansion; in-circle first in double-double (``_incircle_dd``, within
+   ``ICC_DD`` times the permanent), which decides all but the truly
+   near-degenerate calls at a fraction of the expansions' cost, and only
+   then exactly;
 3. the exact stage: for in-circle first Shewchuk's C1 correction (the
    first-order terms of the differences' roundings, in floating point, with
    its own error bound), then ``*_exact``: expansion arithmetic from the
@@ -28,8 +32,8 @@ from numba import njit
 
 from ..indexing import stack_array
 from .expansion import (EPS, NOT_INT, as_int, cross_exact, exact_diff, expansion_product,
-                        expansion_sign, expansion_sum, int_unit, scale_expansion, sign4, sign_int,
-                        two_diff, two_product, two_sum)
+                        expansion_sign, expansion_sum, fma, int_unit, scale_expansion, sign4,
+                        sign_int, two_diff, two_product, two_sum)
 
 # Shewchuk's error bounds (predicates.c, exactinit): |det - exact| <= bound *
 # permanent for stage A's float evaluation, and for stage B's estimate.
@@ -39,6 +43,12 @@ ICC_A = (10.0 + 96.0 * EPS) * EPS
 ICC_B = (4.0 + 48.0 * EPS) * EPS
 ICC_C = (44.0 + 576.0 * EPS) * EPS * EPS  # stage 3's first step (Shewchuk's C1)
 RESULT_ERR = (3.0 + 8.0 * EPS) * EPS  # the rounding of the stage-B estimate
+# _incircle_dd's error over the permanent: derived there, and used with room
+# for the rounding of the permanent and of the returned value.
+ICC_DD_DERIVED = 39.4 * EPS * EPS
+ICC_DD = 64.0 * EPS * EPS
+DD_FLOOR = 2.0 ** -900  # the permanents _incircle_dd is used for (no underflow, overflow)
+DD_CEIL = 2.0 ** 1000
 WORK_SIZE = 304  # doubles of scratch space of incircle's stage B (see _lifted_term)
 
 
@@ -196,28 +206,29 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
                  + (b0 * b0 + b1 * b1) * (c0 * a1 - a0 * c1)
                  + (c0 * c0 + c1 * c1) * (a0 * b1 - b0 * a1))
             return sign_int(v), 1
-    work = stack_array(WORK_SIZE)  # no heap allocation per call
-    # Stage B: exact determinant of the rounded differences.
-    na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
-    nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
-    nc = _lifted_term(cdx, cdy, adx, ady, bdx, bdy, work, 64)
-    ab = work[96:160]
-    nab = expansion_sum(work[0:32], na, work[32:64], nb, ab)
-    fin = work[160:256]
-    nfin = expansion_sum(ab, nab, work[64:96], nc, fin)
-    if tails_zero:
-        return expansion_sign(fin, nfin), 1
-    est = 0.0
-    for i in range(nfin):
-        est += fin[i]
-    if abs(est) >= ICC_B * permanent:
+    # Stage B: the determinant of the rounded differences, first in
+    # double-double, within est_err of it; where that cannot decide, or the
+    # permanent is outside _incircle_dd's range, exactly.
+    est, est_err = 0.0, np.inf
+    if DD_FLOOR <= permanent <= DD_CEIL:
+        est = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
+        est_err = ICC_DD * permanent
+        if tails_zero and abs(est) > est_err:
+            return est, 1
+    if tails_zero or est_err == np.inf:
+        est, exact_sign = _incircle_b(adx, ady, bdx, bdy, cdx, cdy)
+        if tails_zero:
+            return exact_sign, 1
+        est_err = 0.0  # the expansions' own rounding is in ICC_B and RESULT_ERR
+    if abs(est) >= ICC_B * permanent + est_err:
         return est, 1
     # Stage 3, first Shewchuk's C1 step (predicates.c, incircleadapt): the
     # terms of first order in the tails, added to the estimate in floating
-    # point, decide unless within ICC_C * permanent + RESULT_ERR * |est| of 0
-    # (near-cocircular points that are not exactly cocircular, such as
-    # points on a circle rounded to doubles); else the expansions.
-    bound = ICC_C * permanent + RESULT_ERR * abs(est)
+    # point, decide unless within ICC_C * permanent + RESULT_ERR * |est| (and
+    # the estimate's own error) of 0 (near-cocircular points that are not
+    # exactly cocircular, such as points on a circle rounded to doubles);
+    # else the expansions.
+    bound = ICC_C * permanent + RESULT_ERR * abs(est) + est_err
     est += (((adx * adx + ady * ady) * ((bdx * cdyt + cdy * bdxt) - (bdy * cdxt + cdx * bdyt))
              + 2.0 * (adx * adxt + ady * adyt) * (bdx * cdy - bdy * cdx))
             + ((bdx * bdx + bdy * bdy) * ((cdx * adyt + ady * cdxt) - (cdy * adxt + adx * cdyt))
@@ -227,6 +238,89 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     if abs(est) >= bound:
         return est, 2
     return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
+
+
+@njit(cache=True, inline="always")
+def _dd_lift(x, y):
+    """x*x + y*y as an unevaluated pair (hi, lo)."""
+    p, e = two_product(x, x)
+    q, f = two_product(y, y)
+    s, t = two_sum(p, q)
+    return s, t + (e + f)
+
+
+@njit(cache=True, inline="always")
+def _dd_cross(a, b, c, d):
+    """a*b - c*d as an unevaluated pair (hi, lo)."""
+    p, e = two_product(a, b)
+    q, f = two_product(c, d)
+    s, t = two_diff(p, q)
+    return s, t + (e - f)
+
+
+@njit(cache=True, inline="always")
+def _dd_times(ah, al, bh, bl):
+    """(ah + al) * (bh + bl) as a pair, al * bl dropped."""
+    p, e = two_product(ah, bh)
+    return p, fma(ah, bl, fma(al, bh, e))
+
+
+@njit(cache=True)
+def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
+    """The in-circle determinant of the differences (doubles, taken as exact)
+    in double-double: D = sum over the rotations (a, b, c) of lift(a) *
+    cross(b, c), rounded once at the end.
+
+    Error bound, u = EPS, no underflow or overflow (``DD_FLOOR`` and
+    ``DD_CEIL`` on the permanent P = sum lift(a) |cross|(b, c), |cross| being
+    |bx cy| + |cx by|).  Every two_product, two_sum and two_diff is exact and
+    every other operation rounds once, by at most u of its result:
+
+    - lift L = x^2 + y^2: the pair is off by u|e + f| + u|t + (e + f)| <=
+      3.01 u^2 L, with |hi| <= (1 + 2u) L, |lo| <= 2.01 u L;
+    - cross K: the same steps, off by <= 3.01 u^2 |K|p (its permanent), with
+      |hi| <= (1 + 2u) |K|p, |lo| <= 2.01 u |K|p;
+    - term L K: the two fmas round by <= 3.02 and 5.05 u^2 L |K|p, dropping
+      lo * lo loses <= 4.05, the factors' own errors carry 6.03: 18.2 u^2 L
+      |K|p in all, with |lo| <= 5.03 u L |K|p;
+    - sum: two two_sums are exact and leave tails <= 2.01 u P; the four
+      roundings of the low parts' sum add <= 21.2 u^2 P.
+
+    So hi + lo is within 39.4 u^2 P of D, and the returned value, its
+    rounding, has D's sign whenever it exceeds ICC_DD * P (64 u^2 P: room for
+    the permanent's own roundings).  Underflow: with P >= DD_FLOOR every
+    product that matters is normal; a subnormal low part costs < 2**-1074
+    absolute per operation, far below the slack."""
+    la, las = _dd_lift(adx, ady)
+    lb, lbs = _dd_lift(bdx, bdy)
+    lc, lcs = _dd_lift(cdx, cdy)
+    ka, kas = _dd_cross(bdx, cdy, cdx, bdy)
+    kb, kbs = _dd_cross(cdx, ady, adx, cdy)
+    kc, kcs = _dd_cross(adx, bdy, bdx, ady)
+    ta, tas = _dd_times(la, las, ka, kas)
+    tb, tbs = _dd_times(lb, lbs, kb, kbs)
+    tc, tcs = _dd_times(lc, lcs, kc, kcs)
+    s, t = two_sum(ta, tb)
+    hi, t2 = two_sum(s, tc)
+    return hi + (((t + t2) + (tas + tbs)) + tcs)
+
+
+@njit(cache=True)
+def _incircle_b(adx, ady, bdx, bdy, cdx, cdy):
+    """Stage B exactly: the in-circle determinant of the differences as an
+    expansion, returned as (its float estimate, its exact sign)."""
+    work = stack_array(WORK_SIZE)  # no heap allocation per call
+    na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)
+    nb = _lifted_term(bdx, bdy, cdx, cdy, adx, ady, work, 32)
+    nc = _lifted_term(cdx, cdy, adx, ady, bdx, bdy, work, 64)
+    ab = work[96:160]
+    nab = expansion_sum(work[0:32], na, work[32:64], nb, ab)
+    fin = work[160:256]
+    nfin = expansion_sum(ab, nab, work[64:96], nc, fin)
+    est = 0.0
+    for i in range(nfin):
+        est += fin[i]
+    return est, expansion_sign(fin, nfin)
 
 
 @njit(cache=True)
