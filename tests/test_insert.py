@@ -54,6 +54,24 @@ def test_degenerate_3d_sets(name, pts, order):
         assert tri.n_distinct == 200 and tri.stats["counts"]["duplicates"] == 50
 
 
+def rounded_sphere(n, seed):
+    """n points on the sphere of radius 0.45 about the origin, rounded to
+    doubles: cospherical up to rounding, the 3D analogue of gDel2D's circle."""
+    v = np.random.default_rng(seed).normal(size=(n, 3))
+    return 0.45 * v / np.linalg.norm(v, axis=1)[:, None]
+
+
+@pytest.mark.parametrize("order", ["kdtree", "brio"])
+def test_rounded_sphere_is_exact_without_the_expansions(order):
+    # Nearly every in-sphere test fails the float filter here; the double-
+    # double stage with its tail terms (lfqt.predicates.spatial) decides them:
+    # without it this input ran 50x slower than the cube.
+    tri = insert_verified(rounded_sphere(1500, 7), order=order)
+    counts = tri.stats["counts"]
+    assert counts["incircle_stage1_undecided"] > counts["incircle_tests"] // 2
+    assert counts["incircle_stage2_undecided"] == 0
+
+
 def test_degenerate_2d_sets():
     g = np.stack(np.meshgrid(np.arange(20), np.arange(20)), -1).reshape(-1, 2).astype(float)
     insert_verified(g, order="kdtree")

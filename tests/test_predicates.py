@@ -9,9 +9,9 @@ from numba import njit
 from lfqt import morton, predicates as P
 from lfqt.predicates import counters as C
 from lfqt.predicates import binade
-from lfqt.predicates import planar
+from lfqt.predicates import planar, spatial
 from lfqt.predicates.expansion import EPS, two_product
-from lfqt._input import coordinates2d, exact_coordinates2d
+from lfqt._input import coordinates2d, exact_coordinates2d, exact_points3
 
 # Magnitudes within one exactness window (the API refuses wider spans).
 finite = st.floats(min_value=-1e30, max_value=1e30).filter(lambda v: v == 0 or abs(v) > 1e-90)
@@ -174,6 +174,154 @@ def test_incircle_rounded_circle_decided_before_the_exact_stage():
         pts = [(0.45 * np.cos(v), 0.45 * np.sin(v)) for v in t]
         flat = [c for p in pts for c in p]
         assert sign(P.incircle(*flat, P.ICC_A, P.new_counters())) == incircle_ref(*pts)
+
+
+def _insphere_diffs_ref(rows):
+    """(exact determinant, permanent) of insphere_staged's form, from the
+    differences rows = [(ax - ex, ay - ey, az - ez), ...] (as Fractions)."""
+    (ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz) = rows
+
+    def cross(p, q, r, s):
+        return p * q - r * s, abs(p * q) + abs(r * s)
+
+    ab, abp = cross(ax, by, bx, ay)
+    bc, bcp = cross(bx, cy, cx, by)
+    cd, cdp = cross(cx, dy, dx, cy)
+    da, dap = cross(dx, ay, ax, dy)
+    ac, acp = cross(ax, cy, cx, ay)
+    bd, bdp = cross(bx, dy, dx, by)
+    abc = az * bc - bz * ac + cz * ab
+    bcd = bz * cd - cz * bd + dz * bc
+    cda = cz * da + dz * ac + az * cd
+    dab = dz * ab + az * bd + bz * da
+    abcp = abs(az) * bcp + abs(bz) * acp + abs(cz) * abp
+    bcdp = abs(bz) * cdp + abs(cz) * bdp + abs(dz) * bcp
+    cdap = abs(cz) * dap + abs(dz) * acp + abs(az) * cdp
+    dabp = abs(dz) * abp + abs(az) * bdp + abs(bz) * dap
+    lifts = [x * x + y * y + z * z for x, y, z in rows]
+    det = -((lifts[3] * abc - lifts[2] * dab) + (lifts[1] * cda - lifts[0] * bcd))
+    perm = lifts[3] * abcp + lifts[2] * dabp + lifts[1] * cdap + lifts[0] * bcdp
+    return det, perm
+
+
+def orient3d_ref(a, b, c, d):
+    u, v, w = ([Fraction(q[k]) - Fraction(a[k]) for k in range(3)] for q in (b, c, d))
+    det = (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+           + u[2] * (v[0] * w[1] - v[1] * w[0]))
+    return (det > 0) - (det < 0)
+
+
+def insphere_ref(a, b, c, d, e):
+    """> 0 when e is inside the sphere through the right-handed (a, b, c, d)."""
+    rows = [tuple(Fraction(p[k]) - Fraction(e[k]) for k in range(3)) for p in (a, b, c, d)]
+    det = _insphere_diffs_ref(rows)[0]
+    return (det > 0) - (det < 0)
+
+
+def test_insphere_ref_convention():
+    a, b, c, d = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    assert orient3d_ref(a, b, c, d) == 1
+    assert insphere_ref(a, b, c, d, (0.25, 0.25, 0.25)) == 1
+    assert insphere_ref(a, b, c, d, (2.0, 2.0, 2.0)) == -1
+    assert insphere_ref(a, b, c, d, (1.0, 1.0, 1.0)) == 0  # a corner of the cube: on it
+
+
+@st.composite
+def near_sphere(draw):
+    """Five points on a sphere, rounded to doubles; its centre is often the
+    origin, so that differences straddle zero and are rounded too."""
+    centre = draw(st.one_of(st.just((0.0, 0.0, 0.0)),
+                            st.tuples(signed_unit, signed_unit, signed_unit)))
+    r = draw(st.floats(0.01, 10))
+    pts = []
+    for _ in range(5):
+        t, z = draw(st.floats(0, 6.283)), draw(st.floats(-1, 1))
+        w = math.sqrt(1 - z * z)
+        pts.append(tuple(float(c + r * v) for c, v in zip(centre, (w * math.cos(t),
+                                                                   w * math.sin(t), z))))
+    k, nudge = draw(st.integers(0, 4)), draw(st.integers(-1, 1))
+    if nudge:
+        x, y, z = pts[k]
+        pts[k] = (float(np.nextafter(x, np.inf * nudge)), y, z)
+    return pts
+
+
+def _right_handed(pts):
+    """The points in the 3D exactness window, the first four right-handed."""
+    try:
+        P3 = exact_points3(np.array(pts, dtype=np.float64))
+    except ValueError:  # magnitudes too far apart for the window
+        assume(False)
+    pts = [tuple(map(float, p)) for p in P3]
+    o = orient3d_ref(*pts[:4])
+    assume(o != 0)
+    if o < 0:
+        pts[0], pts[1] = pts[1], pts[0]
+    return pts
+
+
+point3 = st.tuples(coords, coords, coords)
+
+
+@given(st.one_of(near_sphere(), st.tuples(point3, point3, point3, point3, point3)))
+def test_insphere_matches_fractions(pts):
+    pts = _right_handed(pts)
+    got, stage = P.insphere_staged(*[c for p in pts for c in p], P.ISP_A)
+    assert sign(got) == insphere_ref(*pts)
+    assert sign(P.insphere_exact(*[c for p in pts for c in p])) == insphere_ref(*pts)
+
+
+@given(st.one_of(near_sphere(), st.tuples(point3, point3, point3, point3, point3)))
+def test_insphere_double_double_within_its_bound(pts):
+    pts = _right_handed(pts)
+    e = pts[4]
+    diffs = [tuple(p[k] - e[k] for k in range(3)) for p in pts[:4]]
+    det, perm = _insphere_diffs_ref([tuple(map(Fraction, r)) for r in diffs])
+    assume(spatial.DD_FLOOR <= perm <= spatial.DD_CEIL)
+    got = Fraction(spatial._insphere_dd(*[c for r in diffs for c in r]))
+    assert abs(got - det) <= Fraction(spatial.ISP_DD_DERIVED) * perm + Fraction(EPS) * abs(got)
+    assert spatial.ISP_DD * (1 - 16 * EPS) > spatial.ISP_DD_DERIVED * (1 + 2 * EPS)
+    assert spatial.ISP_C * (1 - 16 * EPS) > spatial.ISP_C_DERIVED * (1 + 2 * EPS)
+
+
+@given(near_sphere())
+def test_insphere_with_tails_within_its_bound(pts):
+    # rounded differences plus their first-order tail terms: within
+    # ISP_C_DERIVED P of the exact determinant of the true differences
+    pts = _right_handed(pts)
+    e = pts[4]
+    exact_rows = [tuple(Fraction(p[k]) - Fraction(e[k]) for k in range(3)) for p in pts[:4]]
+    rounded = [tuple(p[k] - e[k] for k in range(3)) for p in pts[:4]]
+    tails = [tuple(float(x - Fraction(r)) for x, r in zip(xr, rr))
+             for xr, rr in zip(exact_rows, rounded)]
+    det = _insphere_diffs_ref(exact_rows)[0]
+    perm = _insphere_diffs_ref([tuple(map(Fraction, r)) for r in rounded])[1]
+    assume(spatial.DD_FLOOR <= perm <= spatial.DD_CEIL)
+    args = [c for r in rounded for c in r]
+    got = Fraction(spatial._insphere_dd(*args)) + Fraction(
+        spatial._insphere_tails(*args, *[c for t in tails for c in t]))
+    assert abs(got - det) <= Fraction(spatial.ISP_C_DERIVED) * perm + 2 * Fraction(EPS) * abs(got)
+
+
+def test_insphere_rounded_sphere_decided_before_the_expansions():
+    # points on a sphere around the origin, rounded to doubles: the stage-1
+    # filter fails on nearly all; stage 1 decides them, with the exact sign
+    rng = np.random.default_rng(5)
+    stages = []
+    for _ in range(300):
+        v = rng.normal(size=3)
+        near = v / np.linalg.norm(v) + 0.02 * rng.normal(size=(5, 3))
+        pts = [tuple(map(float, 0.45 * p / np.linalg.norm(p))) for p in near]
+        o = orient3d_ref(*pts[:4])
+        if o == 0:
+            continue
+        if o < 0:
+            pts[0], pts[1] = pts[1], pts[0]
+        got, stage = P.insphere_staged(*[c for p in pts for c in p], P.ISP_A)
+        assert sign(got) == insphere_ref(*pts)
+        stages.append(stage)
+    assert stages.count(0) < len(stages) // 2  # the float filter fails on most
+    assert stages.count(2) <= len(stages) // 50  # the expansions are rare
 
 
 @given(point, point, point, point)

@@ -54,6 +54,34 @@ def two_product(a, b):
     return x, fma(a, b, -x)
 
 
+# Double-double ("dd") evaluation, the predicates' stage before expansions:
+# a value is an unevaluated pair hi + lo.  Each helper's error, for exact
+# double arguments, is derived where it is used (planar._incircle_dd,
+# spatial._insphere_dd) from three facts: two_sum, two_diff and two_product
+# are exact; every other operation rounds by at most EPS of its result; and
+# nothing underflows or overflows, which the callers ensure by using it only
+# for permanents in [DD_FLOOR, DD_CEIL].
+DD_FLOOR = 2.0 ** -900
+DD_CEIL = 2.0 ** 990
+
+
+@njit(cache=True, inline="always")
+def dd_cross(a, b, c, d):
+    """a*b - c*d as a pair: off by <= 3.01 EPS^2 (|ab| + |cd|), with |hi| <=
+    (1 + 2 EPS) (|ab| + |cd|) and |lo| <= 2.01 EPS (|ab| + |cd|)."""
+    p, e = two_product(a, b)
+    q, f = two_product(c, d)
+    s, t = two_diff(p, q)
+    return s, t + (e - f)
+
+
+@njit(cache=True, inline="always")
+def dd_times(ah, al, bh, bl):
+    """(ah + al) * (bh + bl) as a pair, al * bl dropped."""
+    p, e = two_product(ah, bh)
+    return p, fma(ah, bl, fma(al, bh, e))
+
+
 @njit(cache=True)
 def expansion_sum(e, elen, f, flen, h):
     """h = e + f for nonoverlapping expansions (Shewchuk's fast expansion sum,

@@ -31,9 +31,9 @@ import numpy as np
 from numba import njit
 
 from ..indexing import stack_array
-from .expansion import (EPS, NOT_INT, as_int, cross_exact, exact_diff, expansion_product,
-                        expansion_sign, expansion_sum, fma, int_unit, scale_expansion, sign4,
-                        sign_int, two_diff, two_product, two_sum)
+from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd_cross, dd_times,
+                        exact_diff, expansion_product, expansion_sign, expansion_sum, int_unit,
+                        scale_expansion, sign4, sign_int, two_diff, two_product, two_sum)
 
 # Shewchuk's error bounds (predicates.c, exactinit): |det - exact| <= bound *
 # permanent for stage A's float evaluation, and for stage B's estimate.
@@ -47,8 +47,6 @@ RESULT_ERR = (3.0 + 8.0 * EPS) * EPS  # the rounding of the stage-B estimate
 # for the rounding of the permanent and of the returned value.
 ICC_DD_DERIVED = 39.4 * EPS * EPS
 ICC_DD = 64.0 * EPS * EPS
-DD_FLOOR = 2.0 ** -900  # the permanents _incircle_dd is used for (no underflow, overflow)
-DD_CEIL = 2.0 ** 1000
 WORK_SIZE = 304  # doubles of scratch space of incircle's stage B (see _lifted_term)
 
 
@@ -249,22 +247,6 @@ def _dd_lift(x, y):
     return s, t + (e + f)
 
 
-@njit(cache=True, inline="always")
-def _dd_cross(a, b, c, d):
-    """a*b - c*d as an unevaluated pair (hi, lo)."""
-    p, e = two_product(a, b)
-    q, f = two_product(c, d)
-    s, t = two_diff(p, q)
-    return s, t + (e - f)
-
-
-@njit(cache=True, inline="always")
-def _dd_times(ah, al, bh, bl):
-    """(ah + al) * (bh + bl) as a pair, al * bl dropped."""
-    p, e = two_product(ah, bh)
-    return p, fma(ah, bl, fma(al, bh, e))
-
-
 @njit(cache=True)
 def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     """The in-circle determinant of the differences (doubles, taken as exact)
@@ -294,15 +276,15 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     la, las = _dd_lift(adx, ady)
     lb, lbs = _dd_lift(bdx, bdy)
     lc, lcs = _dd_lift(cdx, cdy)
-    ka, kas = _dd_cross(bdx, cdy, cdx, bdy)
-    kb, kbs = _dd_cross(cdx, ady, adx, cdy)
-    kc, kcs = _dd_cross(adx, bdy, bdx, ady)
-    ta, tas = _dd_times(la, las, ka, kas)
-    tb, tbs = _dd_times(lb, lbs, kb, kbs)
-    tc, tcs = _dd_times(lc, lcs, kc, kcs)
+    ka, kas = dd_cross(bdx, cdy, cdx, bdy)
+    kb, kbs = dd_cross(cdx, ady, adx, cdy)
+    kc, kcs = dd_cross(adx, bdy, bdx, ady)
+    ta, tas = dd_times(la, las, ka, kas)
+    tb, tb_s = dd_times(lb, lbs, kb, kbs)
+    tc, tcs = dd_times(lc, lcs, kc, kcs)
     s, t = two_sum(ta, tb)
     hi, t2 = two_sum(s, tc)
-    return hi + (((t + t2) + (tas + tbs)) + tcs)
+    return hi + (((t + t2) + (tas + tb_s)) + tcs)
 
 
 @njit(cache=True)

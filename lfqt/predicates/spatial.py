@@ -1,18 +1,32 @@
-"""3D predicates, staged: orientation and in-sphere (filter, then exact).
+"""3D predicates, staged: orientation and in-sphere.
 
 Same conventions as lfqt.predicates.planar: the sign of the returned value is
 exact, ``*_staged`` returns (value, deciding stage), scalars only.  Cells are
-right-handed: orient3d(a, b, c, d) = det[b-a, c-a, d-a] > 0.
+right-handed: orient3d(a, b, c, d) = det[b-a, c-a, d-a] > 0.  Orientation
+goes from the float filter (stage 0) to the expansions (stage 2); in-sphere,
+when the coordinate differences are exact, first through a double-double
+evaluation (stage 1, ``_insphere_dd``), which decides nearly cospherical
+points (a sphere's surface rounded to doubles) for a fraction of the
+expansions' cost.
 """
 import numpy as np
 from numba import njit
 
-from .expansion import (EPS, NOT_INT, as_int, cross_exact, exact_diff, expansion_product,
-                        expansion_sign, expansion_sum, int_unit, negate, sign_int, two_diff)
+from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd_cross,
+                        dd_times, exact_diff, expansion_product, expansion_sign, expansion_sum,
+                        fma, int_unit, negate, sign_int, two_diff, two_product, two_sum)
 
 # Shewchuk's stage-A bounds of orient3d and insphere (predicates.c, exactinit)
 O3D_A = (7.0 + 56.0 * EPS) * EPS
 ISP_A = (16.0 + 224.0 * EPS) * EPS
+# _insphere_dd's error over the permanent: derived there, and used with room
+# for the rounding of the permanent and of the returned value.
+ISP_DD_DERIVED = 134.3 * EPS * EPS
+ISP_DD = 256.0 * EPS * EPS
+# ... and with the first-order change in the differences' tails added
+# (_insphere_tails: 75.8 + 10.1 more).
+ISP_C_DERIVED = 220.2 * EPS * EPS
+ISP_C = 512.0 * EPS * EPS
 
 
 @njit(cache=True, inline="always")
@@ -168,7 +182,190 @@ def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     permanent = dlift * abcp + clift * dabp + blift * cdap + alift * bcdp
     if abs(det) > bound * permanent:
         return det, 0
+    return _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez,
+                           permanent)
+
+
+@njit(cache=True)
+def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, permanent):
+    """Stages 1 and 2 of insphere: (sign-exact value, deciding stage).
+
+    Stage 1: the differences are rounded, x = xh + xt exactly (two_diff).
+    The determinant of the xh in double-double (_insphere_dd, within
+    ISP_DD_DERIVED P), plus its first-order change in the tails in floating
+    point (_insphere_tails, as Shewchuk's C1 step in 2D), is within
+    ISP_C_DERIVED P of the exact determinant; it decides unless that close
+    to 0.  Stage 2: the expansions."""
+    if DD_FLOOR <= permanent <= DD_CEIL:
+        aex, aet = two_diff(ax, ex)
+        aey, aeu = two_diff(ay, ey)
+        aez, aev = two_diff(az, ez)
+        bex, bet = two_diff(bx, ex)
+        bey, beu = two_diff(by, ey)
+        bez, bev = two_diff(bz, ez)
+        cex, cet = two_diff(cx, ex)
+        cey, ceu = two_diff(cy, ey)
+        cez, cev = two_diff(cz, ez)
+        dex, det_ = two_diff(dx, ex)
+        dey, deu = two_diff(dy, ey)
+        dez, dev = two_diff(dz, ez)
+        est = _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez)
+        bound = ISP_DD * permanent
+        if not (aet == 0.0 and aeu == 0.0 and aev == 0.0 and bet == 0.0 and beu == 0.0
+                and bev == 0.0 and cet == 0.0 and ceu == 0.0 and cev == 0.0 and det_ == 0.0
+                and deu == 0.0 and dev == 0.0):
+            est += _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
+                                   aet, aeu, aev, bet, beu, bev, cet, ceu, cev, det_, deu, dev)
+            bound = ISP_C * permanent
+        if abs(est) > bound + 2.0 * EPS * abs(est):
+            return est, 1
     return insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez), 2
+
+
+@njit(cache=True, inline="always")
+def _d_cross(a, at, b, bt, c, ct, d, dt):
+    """First-order change of a*b - c*d under tails at, bt, ct, dt."""
+    return (a * bt + at * b) - (c * dt + ct * d)
+
+
+@njit(cache=True)
+def _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
+                    aet, aeu, aev, bet, beu, bev, cet, ceu, cev, det_, deu, dev):
+    """The first-order change of insphere_staged's determinant when each
+    difference x (here rounded) gains its tail xt, in floating point.
+
+    Bound (u = EPS, P the permanent of the rounded differences; each of the
+    determinant's monomials has degree 5 and |xt| <= u |x|): the change is
+    at most 5u P in permanent, and no monomial of it passes more than 15
+    roundings, so this evaluation is within 15.1 u * 5.01 u P of it; the
+    terms of second and higher order left out are within ((1 + u)^5 - 1 -
+    5u) P <= 10.01 u^2 P."""
+    ab = aex * bey - bex * aey
+    bc = bex * cey - cex * bey
+    cd = cex * dey - dex * cey
+    da = dex * aey - aex * dey
+    ac = aex * cey - cex * aey
+    bd = bex * dey - dex * bey
+    dab_ = _d_cross(aex, aet, bey, beu, bex, bet, aey, aeu)
+    dbc = _d_cross(bex, bet, cey, ceu, cex, cet, bey, beu)
+    dcd = _d_cross(cex, cet, dey, deu, dex, det_, cey, ceu)
+    dda = _d_cross(dex, det_, aey, aeu, aex, aet, dey, deu)
+    dac = _d_cross(aex, aet, cey, ceu, cex, cet, aey, aeu)
+    dbd = _d_cross(bex, bet, dey, deu, dex, det_, bey, beu)
+    abc = aez * bc - bez * ac + cez * ab
+    bcd = bez * cd - cez * bd + dez * bc
+    cda = cez * da + dez * ac + aez * cd
+    dab = dez * ab + aez * bd + bez * da
+    d_abc = (aev * bc + aez * dbc) - (bev * ac + bez * dac) + (cev * ab + cez * dab_)
+    d_bcd = (bev * cd + bez * dcd) - (cev * bd + cez * dbd) + (dev * bc + dez * dbc)
+    d_cda = (cev * da + cez * dda) + (dev * ac + dez * dac) + (aev * cd + aez * dcd)
+    d_dab = (dev * ab + dez * dab_) + (aev * bd + aez * dbd) + (bev * da + bez * dda)
+    alift = aex * aex + aey * aey + aez * aez
+    blift = bex * bex + bey * bey + bez * bez
+    clift = cex * cex + cey * cey + cez * cez
+    dlift = dex * dex + dey * dey + dez * dez
+    d_alift = 2.0 * (aex * aet + aey * aeu + aez * aev)
+    d_blift = 2.0 * (bex * bet + bey * beu + bez * bev)
+    d_clift = 2.0 * (cex * cet + cey * ceu + cez * cev)
+    d_dlift = 2.0 * (dex * det_ + dey * deu + dez * dev)
+    # det = -((dlift abc - clift dab) + (blift cda - alift bcd))
+    return -(((d_dlift * abc + dlift * d_abc) - (d_clift * dab + clift * d_dab))
+             + ((d_blift * cda + blift * d_cda) - (d_alift * bcd + alift * d_bcd)))
+
+
+@njit(cache=True, inline="always")
+def _dd_scaled(z, kh, kl):
+    """z * (kh + kl) as a pair."""
+    p, e = two_product(z, kh)
+    return p, fma(z, kl, e)
+
+
+@njit(cache=True, inline="always")
+def _dd_sum3(h1, l1, h2, l2, h3, l3):
+    """(h1 + l1) + (h2 + l2) + (h3 + l3) as a pair."""
+    s, t = two_sum(h1, h2)
+    hi, t2 = two_sum(s, h3)
+    return hi, ((t + t2) + (l1 + l2)) + l3
+
+
+@njit(cache=True, inline="always")
+def _dd_lift3(x, y, z):
+    """x^2 + y^2 + z^2 as a pair."""
+    p, e = two_product(x, x)
+    q, f = two_product(y, y)
+    r, g = two_product(z, z)
+    s, t = two_sum(p, q)
+    hi, t2 = two_sum(s, r)
+    return hi, (t + t2) + ((e + f) + g)
+
+
+@njit(cache=True)
+def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
+    """insphere_staged's determinant of the differences (doubles, taken as
+    exact) in double-double, rounded once at the end.
+
+    Error bound, u = EPS, no underflow or overflow (DD_FLOOR <= P <= DD_CEIL,
+    P the permanent of insphere_staged: sum of lift * |minor|p, a minor's
+    permanent |minor|p being sum |z| |cross|p).  With the facts of
+    lfqt.predicates.expansion's double-double section:
+
+    - cross K (dd_cross): off by 3.01 u^2 |K|p; |hi| <= (1 + 2u) |K|p,
+      |lo| <= 2.01 u |K|p;
+    - z K (_dd_scaled): the fma rounds by <= 3.02 u^2 |z| |K|p, K's error
+      carries 3.01: 6.03 u^2 |z| |K|p; |hi| <= (1 + 3.01u) |z| |K|p,
+      |lo| <= 3.02 u |z| |K|p;
+    - minor M, three of those (_dd_sum3): the two_sums are exact and leave
+      tails <= 2.01 u |M|p, the four roundings of the low sum add <= 4 *
+      5.03 u^2 |M|p: 26.2 u^2 |M|p; |hi| <= (1 + 5.1u) |M|p, |lo| <= 5.03 u
+      |M|p;
+    - lift L (_dd_lift3): tails <= 2.01 u L, the products' errors <= u L;
+      four roundings: 7.03 u^2 L; |hi| <= (1 + 2u) L, |lo| <= 3.02 u L;
+    - term L M (dd_times): the fmas round by <= 4.03 and 9.07 u^2 L |M|p,
+      dropping lo * lo loses <= 15.2, the factors' errors carry 33.3:
+      61.6 u^2 L |M|p; |hi| <= (1 + 8u) L |M|p, |lo| <= 9.08 u L |M|p;
+    - sum of the four terms: three exact two_sums leave tails <= 3.01 u P,
+      the six roundings of the low sum add <= 6 * 12.1 u^2 P.
+
+    So hi + lo is within 134.3 u^2 P of the determinant, and the returned
+    value, its rounding, has its sign whenever it exceeds ISP_DD * P (256 u^2
+    P: room for the permanent's own roundings)."""
+    ab, abs_ = dd_cross(aex, bey, bex, aey)
+    bc, bcs = dd_cross(bex, cey, cex, bey)
+    cd, cds = dd_cross(cex, dey, dex, cey)
+    da, das = dd_cross(dex, aey, aex, dey)
+    ac, acs = dd_cross(aex, cey, cex, aey)
+    bd, bds = dd_cross(bex, dey, dex, bey)
+    # the minors, as in insphere_staged (negating a pair is exact)
+    h1, l1 = _dd_scaled(aez, bc, bcs)
+    h2, l2 = _dd_scaled(-bez, ac, acs)
+    h3, l3 = _dd_scaled(cez, ab, abs_)
+    abc, abcs = _dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = _dd_scaled(bez, cd, cds)
+    h2, l2 = _dd_scaled(-cez, bd, bds)
+    h3, l3 = _dd_scaled(dez, bc, bcs)
+    bcd, bcds = _dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = _dd_scaled(cez, da, das)
+    h2, l2 = _dd_scaled(dez, ac, acs)
+    h3, l3 = _dd_scaled(aez, cd, cds)
+    cda, cdas = _dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = _dd_scaled(dez, ab, abs_)
+    h2, l2 = _dd_scaled(aez, bd, bds)
+    h3, l3 = _dd_scaled(bez, da, das)
+    dab, dabs = _dd_sum3(h1, l1, h2, l2, h3, l3)
+    la, las = _dd_lift3(aex, aey, aez)
+    lb, lbs = _dd_lift3(bex, bey, bez)
+    lc, lcs = _dd_lift3(cex, cey, cez)
+    ld, lds = _dd_lift3(dex, dey, dez)
+    # det = -((dlift abc - clift dab) + (blift cda - alift bcd))
+    t1, t1s = dd_times(ld, lds, abc, abcs)
+    t2, t2s = dd_times(lc, lcs, -dab, -dabs)
+    t3, t3s = dd_times(lb, lbs, cda, cdas)
+    t4, t4s = dd_times(la, las, -bcd, -bcds)
+    s, r1 = two_sum(t1, t2)
+    s, r2 = two_sum(s, t3)
+    hi, r3 = two_sum(s, t4)
+    lo = ((r1 + r2) + r3) + ((t1s + t2s) + (t3s + t4s))
+    return -(hi + lo)
 
 
 @njit(cache=True)
