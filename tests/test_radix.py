@@ -20,6 +20,19 @@ def test_sort64_matches_stable_argsort(values, workers):
     assert np.array_equal(sk, keys[expect])
 
 
+@given(st.lists(st.one_of(st.integers(0, 2 ** 64 - 1), st.integers(0, 3),
+                          st.integers(0, 3).map(lambda v: v << 40 | 5)), max_size=300),
+       st.sampled_from([1, 2, 5]))
+def test_msd_down_to_tiny_leaves_matches_stable_argsort(values, leaf):
+    # Tiny leaves make every range above a few keys split by its highest
+    # varying digit, bucket after bucket, through both arrays.
+    keys = np.array(values, dtype=np.uint64)
+    sk, perm = radix.sort_keys(keys.copy(), perm32(len(keys)), Workers(1), leaf=leaf)
+    expect = np.argsort(keys, kind="stable")
+    assert np.array_equal(perm, expect)
+    assert np.array_equal(sk, keys[expect])
+
+
 @given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 2 ** 64 - 1)), max_size=300),
        st.sampled_from(WORKERS))
 def test_sort128_orders_lexicographically_and_stably(pairs, workers):
@@ -65,3 +78,18 @@ def test_chunked_sort_is_stable_across_chunks(rng):
         sk, perm = radix.sort_keys(keys.copy(), perm32(n), w)
     assert np.array_equal(perm, np.argsort(keys, kind="stable"))
     assert np.array_equal(sk, keys[perm])
+
+
+def test_parallel_splits_and_batches_are_stable(rng):
+    # Long enough for the parallel path; a small leaf and skewed keys (one
+    # digit value holds most keys, as the exponent bits of uniform floats do)
+    # make it split the large bucket again before the threads take batches.
+    n = 3 * (1 << 16) + 17
+    keys = rng.integers(0, 2 ** 64, n, dtype=np.uint64)
+    keys[: n // 2] &= np.uint64(0x00FF_FFFF_FFFF_FFFF)
+    keys[::7] = keys[3]  # runs of equal keys across every chunk
+    for leaf in (64, radix.MSD_LEAF):
+        with Workers(3) as w:
+            sk, perm = radix.sort_keys(keys.copy(), perm32(n), w, leaf=leaf)
+        assert np.array_equal(perm, np.argsort(keys, kind="stable"))
+        assert np.array_equal(sk, keys[perm])
