@@ -20,6 +20,16 @@ def u(i):
     return np.uint64(i)
 
 
+@njit(cache=True, inline="always")
+def mix64(x):
+    """splitmix64's finaliser: a well-spread 64-bit hash of x, for the
+    pseudo-random pivots of the selections (deterministic: a function of the
+    range)."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
 @intrinsic
 def popcount(typingctx, v):
     """Set bits of a uint64 (llvm.ctpop: one popcnt instruction)."""

@@ -58,6 +58,28 @@ def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rn
     assert [p for _, p in labels] == hint.tolist()
 
 
+@pytest.mark.parametrize("budget", [0, 1, 3, -1])
+@pytest.mark.parametrize("kind", ["uniform", "ties", "organ pipe"])
+def test_selection_past_its_pivot_budget_is_still_nth_element(kind, budget, rng):
+    # budget 0: pseudo-random pivots from the first round (the guard against
+    # inputs that defeat median of three); -1: the default budget
+    n = 2500
+    pipe = np.minimum(np.arange(n), n - np.arange(n)).astype(float)
+    X = {"uniform": rng.random((n, 2)), "ties": rng.integers(0, 4, (n, 2)).astype(float),
+         "organ pipe": np.c_[pipe, rng.random(n)]}[kind]
+    ids = np.arange(n)
+    Xs, ids_s = X.copy(), ids.copy()
+    lo, hi, k = 100, 2400, 1234
+    orders._select_axis(Xs, ids_s, lo, hi, k, 0, np.empty(2 * orders._BLOCK, dtype=np.int64),
+                        budget)
+    assert np.array_equal(Xs, X[ids_s])  # rows moved with their ids
+    assert np.array_equal(ids_s[:lo], ids[:lo]) and np.array_equal(ids_s[hi:], ids[hi:])
+    key = sorted((X[i, 0], i) for i in ids[lo:hi])
+    assert (X[ids_s[k], 0], ids_s[k]) == key[k - lo]
+    assert all((X[i, 0], i) < key[k - lo] for i in ids_s[lo:k])
+    assert all((X[i, 0], i) > key[k - lo] for i in ids_s[k + 1:hi])
+
+
 @pytest.mark.parametrize("d", [2, 3])
 @pytest.mark.parametrize("name", orders.ORDERS)
 def test_layouts_are_permutations_along_space(name, d, rng):

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
-from ..indexing import u
+from ..indexing import mix64, u
 from .layout import STACK, less
 
 ALT_X = 128
@@ -200,14 +200,6 @@ def subdivide_top(khi, klo, wide, n, bin_size):
     return nodes[:count].copy()
 
 
-@njit(cache=True, inline="always")
-def _mix(x):
-    """splitmix64's finaliser: a well-spread 64-bit hash of x."""
-    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return x ^ (x >> np.uint64(31))
-
-
 @njit(cache=True)
 def _select(ids, lo, hi, k, P, axis):
     """Partition ids[lo:hi] so that ids[k] is in sorted position (nth_element).
@@ -222,7 +214,7 @@ def _select(ids, lo, hi, k, P, axis):
     unbalanced = False
     while hi - lo > 1:
         if unbalanced:
-            state = _mix(state)
+            state = mix64(state)
             b = ids[lo + np.int64(state % np.uint64(hi - lo))]
         else:
             mid = (lo + hi) >> 1
