@@ -174,18 +174,48 @@ class TimeOrder:
 
 
 class TimeRadix:
-    params = [100_000, 1_000_000]
-    param_names = ["n"]
+    params = ([100_000, 1_000_000, 4_000_000], [1, 2])
+    param_names = ["n", "threads"]
 
-    def setup(self, n):
+    def setup(self, n, threads):
         rng = np.random.default_rng(0)
         x, y = rng.random(n), rng.random(n)
         self.hi, self.lo = morton.morton_keys64(x, y)
-        self.workers = Workers(1)
+        self.workers = Workers(threads)
         radix.sort_keys(self.hi[:100].copy(), np.arange(100, dtype=np.int32), self.workers)
 
-    def time_radix_sort_128bit_high_word(self, n):
+    def teardown(self, n, threads):
+        self.workers.__exit__(None, None, None)
+
+    def time_radix_sort_128bit_high_word(self, n, threads):
         radix.sort_keys(self.hi.copy(), np.arange(n, dtype=np.int32), self.workers)
+
+
+class TimeNearDegenerate:
+    """Points cocircular or cospherical up to rounding (gDel2D's circle, a
+    sphere's surface): nearly every in-circle or in-sphere test fails the
+    float filter, and the double-double stages decide them
+    (lfqt.predicates).  A fall back to the expansions shows as a jump in
+    time here (50x for the sphere) and in the exact-stage count."""
+    params = [1_000, 30_000]
+    param_names = ["n"]
+
+    def setup(self, n):
+        self.circle = np.array(generators.make("circle", n))
+        v = np.random.default_rng(0).normal(size=(n, 3))
+        self.sphere = 0.45 * v / np.linalg.norm(v, axis=1)[:, None]
+        lfqt.triangulate(self.circle[:100])
+        lfqt.insert(self.sphere[:100])
+
+    def time_triangulate_circle(self, n):
+        lfqt.triangulate(self.circle)
+
+    def time_insert_sphere(self, n):
+        lfqt.insert(self.sphere)
+
+    def track_sphere_exact_stage_calls(self, n):
+        return lfqt.insert(self.sphere).stats["counts"]["incircle_stage2_undecided"]
+    track_sphere_exact_stage_calls.unit = "count"
 
 
 class TimeCompile:
