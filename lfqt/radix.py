@@ -121,7 +121,7 @@ def sort_keys(keys, perm, workers, leaf=MSD_LEAF):
     pending, ready = [(0, n, 7, False)], []
     while pending:
         a, b, d, in_buf = pending.pop()
-        if b - a <= share:
+        if b - a <= share or d < 0:  # d < 0: all keys equal (nothing to split)
             ready.append((a, b, d, in_buf))
         else:
             pending += _split_parallel(keys, perm, key_buf, perm_buf, a, b, in_buf, workers)
@@ -150,7 +150,7 @@ def _split_parallel(keys, perm, key_buf, perm_buf, a, b, in_buf, workers):
                                   (keys, perm, key_buf, perm_buf))
     chunks = [(a + lo, a + hi) for lo, hi in workers.chunks(b - a)]
     d = max(workers.map(chunks, lambda c, lo, hi: top_digit(src_k, src_k[a], lo, hi)))
-    if d < 0:  # all keys equal: in order; only moved back if in the scratch
+    if d < 0:  # all keys equal: in order (msd_sort_range moves it back from the scratch)
         return [(a, b, -1, in_buf)]
     per_chunk = np.stack(workers.map(chunks, lambda c, lo, hi: _digit_chunk(src_k, lo, hi, 8 * d)))
     # chunk c writes bucket b after every smaller bucket and after the same

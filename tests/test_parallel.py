@@ -1,5 +1,9 @@
 """Parallel LFQT: the result does not depend on the thread count or the
 schedule, errors in workers surface, and stats carry the Fig. 5 phases."""
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -40,6 +44,30 @@ def test_random_small_sets_match_serial(seed, n, threads, with_duplicates):
     serial = lfqt.triangulate(pts, threads=1)
     par = triangulate_verified(pts, threads=threads)
     assert same_mesh(serial, par)
+
+
+def test_parallel_sort_sized_sets_of_few_distinct_points():
+    # Above 2 * 65536 points the keys are sorted in parallel (lfqt.radix):
+    # a set of one point repeated, or of a few repeated many times, leaves
+    # ranges of equal keys larger than a thread's share.  In a child process,
+    # so that a hang fails the test rather than the run.
+    code = textwrap.dedent("""
+        import numpy as np, lfqt
+        n = 150_000
+        same = np.full((n, 2), 0.3)
+        tri = lfqt.triangulate(same, threads=2)
+        assert tri.degenerate and tri.n_distinct == 1
+        g = np.stack(np.meshgrid(np.arange(30.0), np.arange(30.0)), -1).reshape(-1, 2)
+        few = g[np.random.default_rng(0).integers(0, len(g), n)]
+        a, b = lfqt.triangulate(few, threads=1), lfqt.triangulate(few, threads=2)
+        assert lfqt.verify(few, b).ok and b.n_distinct == 900
+        assert np.array_equal(a.simplices, b.simplices)
+        assert np.array_equal(a.duplicate_of, b.duplicate_of)
+        print("ok")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0 and proc.stdout.strip() == "ok", proc.stderr[-2000:]
 
 
 def test_more_threads_than_points_and_cores():

@@ -1,3 +1,7 @@
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 from hypothesis import given, strategies as st
 
@@ -93,3 +97,25 @@ def test_parallel_splits_and_batches_are_stable(rng):
             sk, perm = radix.sort_keys(keys.copy(), perm32(n), w, leaf=leaf)
         assert np.array_equal(perm, np.argsort(keys, kind="stable"))
         assert np.array_equal(sk, keys[perm])
+
+
+def test_parallel_sort_of_equal_keys_ends():
+    # A range above a thread's share whose keys are all equal has no digit to
+    # split by: it must go to the threads as it is, not be split again (which
+    # looped forever).  In a child process, so that a hang fails the test.
+    code = textwrap.dedent("""
+        import numpy as np
+        from lfqt import radix
+        from lfqt.workers import Workers
+        n = 3 * (1 << 16) + 17
+        for keys in (np.full(n, 5, dtype=np.uint64),
+                     np.r_[np.full(n - 1, 9, dtype=np.uint64), np.uint64(1) << np.uint64(63)]):
+            with Workers(2) as w:
+                sk, perm = radix.sort_keys(keys.copy(), np.arange(n, dtype=np.int32), w)
+            assert np.array_equal(perm, np.argsort(keys, kind="stable"))
+            assert np.array_equal(sk, keys[perm])
+        print("sorted")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0 and proc.stdout.strip() == "sorted", proc.stderr[-2000:]
