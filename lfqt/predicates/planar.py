@@ -280,11 +280,11 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     kb, kbs = dd_cross(cdx, ady, adx, cdy)
     kc, kcs = dd_cross(adx, bdy, bdx, ady)
     ta, tas = dd_times(la, las, ka, kas)
-    tb, tb_s = dd_times(lb, lbs, kb, kbs)
+    tb, tbs = dd_times(lb, lbs, kb, kbs)
     tc, tcs = dd_times(lc, lcs, kc, kcs)
     s, t = two_sum(ta, tb)
     hi, t2 = two_sum(s, tc)
-    return hi + (((t + t2) + (tas + tb_s)) + tcs)
+    return hi + (((t + t2) + (tas + tbs)) + tcs)
 
 
 @njit(cache=True)

@@ -3,11 +3,11 @@
 Same conventions as lfqt.predicates.planar: the sign of the returned value is
 exact, ``*_staged`` returns (value, deciding stage), scalars only.  Cells are
 right-handed: orient3d(a, b, c, d) = det[b-a, c-a, d-a] > 0.  Orientation
-goes from the float filter (stage 0) to the expansions (stage 2); in-sphere,
-when the coordinate differences are exact, first through a double-double
-evaluation (stage 1, ``_insphere_dd``), which decides nearly cospherical
-points (a sphere's surface rounded to doubles) for a fraction of the
-expansions' cost.
+goes from the float filter (stage 0) to the expansions (stage 2).  In-sphere
+has a stage 1 between them (``_insphere_adapt``): the determinant of the
+rounded differences in double-double plus the first-order terms of their
+roundings, which decides nearly cospherical points (a sphere's surface
+rounded to doubles) for a fraction of the expansions' cost.
 """
 import numpy as np
 from numba import njit
@@ -195,7 +195,10 @@ def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     ISP_DD_DERIVED P), plus its first-order change in the tails in floating
     point (_insphere_tails, as Shewchuk's C1 step in 2D), is within
     ISP_C_DERIVED P of the exact determinant; it decides unless that close
-    to 0.  Stage 2: the expansions."""
+    to 0.  Underflow: as in lfqt.predicates.planar._incircle_dd, with P >=
+    DD_FLOOR a subnormal result costs < 2**-1074 per operation, far below
+    the room between the derived bounds and ISP_DD, ISP_C.  Stage 2: the
+    expansions."""
     if DD_FLOOR <= permanent <= DD_CEIL:
         aex, aet = two_diff(ax, ex)
         aey, aeu = two_diff(ay, ey)
