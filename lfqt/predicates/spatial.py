@@ -194,8 +194,11 @@ def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     The determinant of the xh in double-double (_insphere_dd, within
     ISP_DD_DERIVED P), plus its first-order change in the tails in floating
     point (_insphere_tails, as Shewchuk's C1 step in 2D), is within
-    ISP_C_DERIVED P of the exact determinant; it decides unless that close
-    to 0.  Underflow: as in lfqt.predicates.planar._incircle_dd, with P >=
+    ISP_C_DERIVED P of the exact determinant.  Rounding the double-double
+    pair and adding the tail terms cost <= u |est| + 5.01 u^2 P more (the
+    tail terms are at most 5.01 u P, so a cancelling pair is that small):
+    the 2 u |est| term and the room up to ISP_C hold them.  It decides
+    unless that close to 0.  Underflow: as in lfqt.predicates.planar._incircle_dd, with P >=
     DD_FLOOR a subnormal result costs < 2**-1074 per operation, far below
     the room between the derived bounds and ISP_DD, ISP_C.  Stage 2: the
     expansions."""
