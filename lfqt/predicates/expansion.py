@@ -82,6 +82,42 @@ def dd_times(ah, al, bh, bl):
     return p, fma(ah, bl, fma(al, bh, e))
 
 
+@njit(cache=True, inline="always")
+def dd_scale(z, kh, kl):
+    """z * (kh + kl) as a pair."""
+    p, e = two_product(z, kh)
+    return p, fma(z, kl, e)
+
+
+@njit(cache=True, inline="always")
+def dd_sum3(h1, l1, h2, l2, h3, l3):
+    """(h1 + l1) + (h2 + l2) + (h3 + l3) as a pair: two exact two_sums, and
+    their tails and the low parts added in four roundings."""
+    s, t = two_sum(h1, h2)
+    hi, t2 = two_sum(s, h3)
+    return hi, ((t + t2) + (l1 + l2)) + l3
+
+
+@njit(cache=True, inline="always")
+def dd_lift2(x, y):
+    """x^2 + y^2 as a pair."""
+    p, e = two_product(x, x)
+    q, f = two_product(y, y)
+    s, t = two_sum(p, q)
+    return s, t + (e + f)
+
+
+@njit(cache=True, inline="always")
+def dd_lift3(x, y, z):
+    """x^2 + y^2 + z^2 as a pair."""
+    p, e = two_product(x, x)
+    q, f = two_product(y, y)
+    r, g = two_product(z, z)
+    s, t = two_sum(p, q)
+    hi, t2 = two_sum(s, r)
+    return hi, (t + t2) + ((e + f) + g)
+
+
 @njit(cache=True)
 def expansion_sum(e, elen, f, flen, h):
     """h = e + f for nonoverlapping expansions (Shewchuk's fast expansion sum,

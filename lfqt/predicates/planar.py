@@ -31,9 +31,10 @@ import numpy as np
 from numba import njit
 
 from ..indexing import stack_array
-from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd_cross, dd_times,
-                        exact_diff, expansion_product, expansion_sign, expansion_sum, int_unit,
-                        scale_expansion, sign4, sign_int, two_diff, two_product, two_sum)
+from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd_cross, dd_lift2,
+                        dd_sum3, dd_times, exact_diff, expansion_product, expansion_sign,
+                        expansion_sum, int_unit, scale_expansion, sign4, sign_int, two_diff,
+                        two_product, two_sum)
 
 # Shewchuk's error bounds (predicates.c, exactinit): |det - exact| <= bound *
 # permanent for stage A's float evaluation, and for stage B's estimate.
@@ -207,13 +208,13 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     # Stage B: the determinant of the rounded differences, first in
     # double-double, within est_err of it; where that cannot decide, or the
     # permanent is outside _incircle_dd's range, exactly.
-    est, est_err = 0.0, np.inf
-    if DD_FLOOR <= permanent <= DD_CEIL:
+    in_dd_range = DD_FLOOR <= permanent <= DD_CEIL
+    if in_dd_range:
         est = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
         est_err = ICC_DD * permanent
         if tails_zero and abs(est) > est_err:
             return est, 1
-    if tails_zero or est_err == np.inf:
+    if tails_zero or not in_dd_range:
         est, exact_sign = _incircle_b(adx, ady, bdx, bdy, cdx, cdy)
         if tails_zero:
             return exact_sign, 1
@@ -238,15 +239,6 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
     return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
 
 
-@njit(cache=True, inline="always")
-def _dd_lift(x, y):
-    """x*x + y*y as an unevaluated pair (hi, lo)."""
-    p, e = two_product(x, x)
-    q, f = two_product(y, y)
-    s, t = two_sum(p, q)
-    return s, t + (e + f)
-
-
 @njit(cache=True)
 def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     """The in-circle determinant of the differences (doubles, taken as exact)
@@ -265,26 +257,25 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
     - term L K: the two fmas round by <= 3.02 and 5.05 u^2 L |K|p, dropping
       lo * lo loses <= 4.05, the factors' own errors carry 6.03: 18.2 u^2 L
       |K|p in all, with |lo| <= 5.03 u L |K|p;
-    - sum: two two_sums are exact and leave tails <= 2.01 u P; the four
-      roundings of the low parts' sum add <= 21.2 u^2 P.
+    - sum (dd_sum3): two two_sums are exact and leave tails <= 2.01 u P;
+      the four roundings of the low parts' sum add <= 21.2 u^2 P.
 
     So hi + lo is within 39.4 u^2 P of D, and the returned value, its
     rounding, has D's sign whenever it exceeds ICC_DD * P (64 u^2 P: room for
     the permanent's own roundings).  Underflow: with P >= DD_FLOOR every
     product that matters is normal; a subnormal low part costs < 2**-1074
     absolute per operation, far below the slack."""
-    la, las = _dd_lift(adx, ady)
-    lb, lbs = _dd_lift(bdx, bdy)
-    lc, lcs = _dd_lift(cdx, cdy)
+    la, las = dd_lift2(adx, ady)
+    lb, lbs = dd_lift2(bdx, bdy)
+    lc, lcs = dd_lift2(cdx, cdy)
     ka, kas = dd_cross(bdx, cdy, cdx, bdy)
     kb, kbs = dd_cross(cdx, ady, adx, cdy)
     kc, kcs = dd_cross(adx, bdy, bdx, ady)
     ta, tas = dd_times(la, las, ka, kas)
     tb, tbs = dd_times(lb, lbs, kb, kbs)
     tc, tcs = dd_times(lc, lcs, kc, kcs)
-    s, t = two_sum(ta, tb)
-    hi, t2 = two_sum(s, tc)
-    return hi + (((t + t2) + (tas + tbs)) + tcs)
+    hi, lo = dd_sum3(ta, tas, tb, tbs, tc, tcs)
+    return hi + lo
 
 
 @njit(cache=True)

@@ -13,8 +13,9 @@ import numpy as np
 from numba import njit
 
 from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd_cross,
-                        dd_times, exact_diff, expansion_product, expansion_sign, expansion_sum,
-                        fma, int_unit, negate, sign_int, two_diff, two_product, two_sum)
+                        dd_lift3, dd_scale, dd_sum3, dd_times, exact_diff, expansion_product,
+                        expansion_sign, expansion_sum, int_unit, negate, sign_int, two_diff,
+                        two_sum)
 
 # Shewchuk's stage-A bounds of orient3d and insphere (predicates.c, exactinit)
 O3D_A = (7.0 + 56.0 * EPS) * EPS
@@ -198,10 +199,10 @@ def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     pair and adding the tail terms cost <= u |est| + 5.01 u^2 P more (the
     tail terms are at most 5.01 u P, so a cancelling pair is that small):
     the 2 u |est| term and the room up to ISP_C hold them.  It decides
-    unless that close to 0.  Underflow: as in lfqt.predicates.planar._incircle_dd, with P >=
-    DD_FLOOR a subnormal result costs < 2**-1074 per operation, far below
-    the room between the derived bounds and ISP_DD, ISP_C.  Stage 2: the
-    expansions."""
+    unless that close to 0.  Underflow: as in planar._incircle_dd, with
+    P >= DD_FLOOR a subnormal result costs < 2**-1074 per operation, far
+    below the room between the derived bounds and ISP_DD, ISP_C.  Stage 2:
+    the expansions."""
     if DD_FLOOR <= permanent <= DD_CEIL:
         aex, aet = two_diff(ax, ex)
         aey, aeu = two_diff(ay, ey)
@@ -279,32 +280,6 @@ def _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
              + ((d_blift * cda + blift * d_cda) - (d_alift * bcd + alift * d_bcd)))
 
 
-@njit(cache=True, inline="always")
-def _dd_scaled(z, kh, kl):
-    """z * (kh + kl) as a pair."""
-    p, e = two_product(z, kh)
-    return p, fma(z, kl, e)
-
-
-@njit(cache=True, inline="always")
-def _dd_sum3(h1, l1, h2, l2, h3, l3):
-    """(h1 + l1) + (h2 + l2) + (h3 + l3) as a pair."""
-    s, t = two_sum(h1, h2)
-    hi, t2 = two_sum(s, h3)
-    return hi, ((t + t2) + (l1 + l2)) + l3
-
-
-@njit(cache=True, inline="always")
-def _dd_lift3(x, y, z):
-    """x^2 + y^2 + z^2 as a pair."""
-    p, e = two_product(x, x)
-    q, f = two_product(y, y)
-    r, g = two_product(z, z)
-    s, t = two_sum(p, q)
-    hi, t2 = two_sum(s, r)
-    return hi, (t + t2) + ((e + f) + g)
-
-
 @njit(cache=True)
 def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
     """insphere_staged's determinant of the differences (doubles, taken as
@@ -317,14 +292,14 @@ def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
 
     - cross K (dd_cross): off by 3.01 u^2 |K|p; |hi| <= (1 + 2u) |K|p,
       |lo| <= 2.01 u |K|p;
-    - z K (_dd_scaled): the fma rounds by <= 3.02 u^2 |z| |K|p, K's error
+    - z K (dd_scale): the fma rounds by <= 3.02 u^2 |z| |K|p, K's error
       carries 3.01: 6.03 u^2 |z| |K|p; |hi| <= (1 + 3.01u) |z| |K|p,
       |lo| <= 3.02 u |z| |K|p;
-    - minor M, three of those (_dd_sum3): the two_sums are exact and leave
+    - minor M, three of those (dd_sum3): the two_sums are exact and leave
       tails <= 2.01 u |M|p, the four roundings of the low sum add <= 4 *
       5.03 u^2 |M|p: 26.2 u^2 |M|p; |hi| <= (1 + 5.1u) |M|p, |lo| <= 5.03 u
       |M|p;
-    - lift L (_dd_lift3): tails <= 2.01 u L, the products' errors <= u L;
+    - lift L (dd_lift3): tails <= 2.01 u L, the products' errors <= u L;
       four roundings: 7.03 u^2 L; |hi| <= (1 + 2u) L, |lo| <= 3.02 u L;
     - term L M (dd_times): the fmas round by <= 4.03 and 9.07 u^2 L |M|p,
       dropping lo * lo loses <= 15.2, the factors' errors carry 33.3:
@@ -342,26 +317,26 @@ def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
     ac, acs = dd_cross(aex, cey, cex, aey)
     bd, bds = dd_cross(bex, dey, dex, bey)
     # the minors, as in insphere_staged (negating a pair is exact)
-    h1, l1 = _dd_scaled(aez, bc, bcs)
-    h2, l2 = _dd_scaled(-bez, ac, acs)
-    h3, l3 = _dd_scaled(cez, ab, abs_)
-    abc, abcs = _dd_sum3(h1, l1, h2, l2, h3, l3)
-    h1, l1 = _dd_scaled(bez, cd, cds)
-    h2, l2 = _dd_scaled(-cez, bd, bds)
-    h3, l3 = _dd_scaled(dez, bc, bcs)
-    bcd, bcds = _dd_sum3(h1, l1, h2, l2, h3, l3)
-    h1, l1 = _dd_scaled(cez, da, das)
-    h2, l2 = _dd_scaled(dez, ac, acs)
-    h3, l3 = _dd_scaled(aez, cd, cds)
-    cda, cdas = _dd_sum3(h1, l1, h2, l2, h3, l3)
-    h1, l1 = _dd_scaled(dez, ab, abs_)
-    h2, l2 = _dd_scaled(aez, bd, bds)
-    h3, l3 = _dd_scaled(bez, da, das)
-    dab, dabs = _dd_sum3(h1, l1, h2, l2, h3, l3)
-    la, las = _dd_lift3(aex, aey, aez)
-    lb, lbs = _dd_lift3(bex, bey, bez)
-    lc, lcs = _dd_lift3(cex, cey, cez)
-    ld, lds = _dd_lift3(dex, dey, dez)
+    h1, l1 = dd_scale(aez, bc, bcs)
+    h2, l2 = dd_scale(-bez, ac, acs)
+    h3, l3 = dd_scale(cez, ab, abs_)
+    abc, abcs = dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = dd_scale(bez, cd, cds)
+    h2, l2 = dd_scale(-cez, bd, bds)
+    h3, l3 = dd_scale(dez, bc, bcs)
+    bcd, bcds = dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = dd_scale(cez, da, das)
+    h2, l2 = dd_scale(dez, ac, acs)
+    h3, l3 = dd_scale(aez, cd, cds)
+    cda, cdas = dd_sum3(h1, l1, h2, l2, h3, l3)
+    h1, l1 = dd_scale(dez, ab, abs_)
+    h2, l2 = dd_scale(aez, bd, bds)
+    h3, l3 = dd_scale(bez, da, das)
+    dab, dabs = dd_sum3(h1, l1, h2, l2, h3, l3)
+    la, las = dd_lift3(aex, aey, aez)
+    lb, lbs = dd_lift3(bex, bey, bez)
+    lc, lcs = dd_lift3(cex, cey, cez)
+    ld, lds = dd_lift3(dex, dey, dez)
     # det = -((dlift abc - clift dab) + (blift cda - alift bcd))
     t1, t1s = dd_times(ld, lds, abc, abcs)
     t2, t2s = dd_times(lc, lcs, -dab, -dabs)
