@@ -22,12 +22,25 @@ def u(i):
 
 @njit(cache=True, inline="always")
 def mix64(x):
-    """splitmix64's finaliser: a well-spread 64-bit hash of x, for the
-    pseudo-random pivots of the selections (deterministic: a function of the
-    range)."""
+    """splitmix64's finaliser: a well-spread 64-bit hash of x."""
     x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
     x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
     return x ^ (x >> np.uint64(31))
+
+
+@njit(cache=True, inline="always")
+def range_seed(lo, hi):
+    """The starting state of ``random_index`` for the range [lo, hi): the
+    selections' pseudo-random pivots are a function of their range, so
+    every run picks the same ones."""
+    return np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(lo * 1000003 + hi)
+
+
+@njit(cache=True, inline="always")
+def random_index(state, lo, hi):
+    """(next state, a pseudo-random index in [lo, hi)), hi > lo."""
+    state = mix64(state)
+    return state, lo + np.int64(state % np.uint64(hi - lo))
 
 
 @intrinsic

@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
-from .indexing import mix64, u
+from .indexing import random_index, range_seed, u
 from .radix import radix_sort_range
 
 ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
@@ -122,7 +122,7 @@ def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
     input.  The guard measured free (1M points, 2D and 3D, min of 7)."""
     if budget < 0:
         budget = 2 * (64 - leading_zeros(np.uint64(hi - lo))) + 8
-    state = np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(lo * 1000003 + hi)
+    state = range_seed(lo, hi)
     while hi - lo > 1:
         mid = (lo + hi) >> 1
         va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
@@ -135,8 +135,7 @@ def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
             p = hi - 1
         budget -= 1
         if budget < 0:
-            state = mix64(state)
-            p = lo + np.int64(state % np.uint64(hi - lo))
+            state, p = random_index(state, lo, hi)
         _swap_rows(X, ids, p, hi - 1)
         pv, pi = X[u(hi - 1), axis], ids[u(hi - 1)]
         at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off)

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
-from ..indexing import mix64, u
+from ..indexing import random_index, range_seed, u
 from .layout import STACK, less
 
 ALT_X = 128
@@ -210,12 +210,12 @@ def _select(ids, lo, hi, k, P, axis):
     vertexmedian always picks one at random).  Without that guard the
     alternating subdivision of 1M Circle points, which defeats the median
     of three, took 2.1 s against 0.012 s at 100k."""
-    state = np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(lo * 1000003 + hi)
+    state = range_seed(lo, hi)
     unbalanced = False
     while hi - lo > 1:
         if unbalanced:
-            state = mix64(state)
-            b = ids[lo + np.int64(state % np.uint64(hi - lo))]
+            state, r = random_index(state, lo, hi)
+            b = ids[r]
         else:
             mid = (lo + hi) >> 1
             a, b, c = ids[lo], ids[mid], ids[hi - 1]
