@@ -478,6 +478,51 @@ def test_static_bounds_decide_only_what_the_dynamic_filter_decides(pts, bounds):
     assert o1 == o2 and i1 == i2
 
 
+@njit(cache=True)
+def _with_and_without_static3(pts):
+    """(orient, in-sphere) of the 5 points as (value, stage) pairs, by the
+    dynamic filter alone and with the static bounds of the points' box."""
+    w = np.empty(3)
+    for k in range(3):
+        w[k] = pts[:, k].max() - pts[:, k].min()
+    so, si = P.static_bounds3(w[0], w[1], w[2], P.O3D_A, P.ISP_A)
+    a, b, c, d, e = pts[0], pts[1], pts[2], pts[3], pts[4]
+    o1 = P.orient3d_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
+                           d[2], P.O3D_A)
+    o2 = P.orient3d_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
+                           d[2], P.O3D_A, so)
+    i1 = P.insphere_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
+                           d[2], e[0], e[1], e[2], P.ISP_A)
+    i2 = P.insphere_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
+                           d[2], e[0], e[1], e[2], P.ISP_A, si)
+    return o1, o2, i1, i2
+
+
+@st.composite
+def integer_quints3(draw):
+    """Five small-integer 3D points times 2**e, as integer_quads."""
+    e = draw(st.integers(-1074, 900))
+    return [tuple(draw(st.integers(-9, 9)) * 2.0 ** e for _ in range(3)) for _ in range(5)]
+
+
+@given(st.one_of(near_sphere(), integer_quints3(),
+                 near_sphere().map(lambda t: [t[0], t[1], t[2], t[2], t[4]])))
+def test_static_bounds3_decide_only_what_the_dynamic_filter_decides(pts):
+    """The inserter's 3D static filter (spatial.static_bounds3): same value
+    and deciding stage with and without it, on nearly cospherical and
+    coplanar sets, and on small integers from subnormal to huge."""
+    o1, o2, i1, i2 = _with_and_without_static3(np.array(pts, dtype=np.float64))
+    assert o1 == o2 and i1 == i2
+
+
+def test_static_bounds3_are_off_where_they_would_leave_the_normal_range():
+    assert P.static_bounds3(2.0 ** -200, 2.0 ** -200, 2.0 ** -200, P.O3D_A, P.ISP_A)[1] == np.inf
+    o, i = P.static_bounds3(2.0 ** 250, 2.0 ** 250, 2.0 ** 250, P.O3D_A, P.ISP_A)
+    assert np.isfinite(o) and i == np.inf  # degree 5 overflows
+    o, i = P.static_bounds3(1.0, 1.0, 1.0, P.O3D_A, P.ISP_A)
+    assert o == pytest.approx(6 * P.O3D_A) and i == pytest.approx(72 * P.ISP_A)
+
+
 def test_static_bounds_are_off_where_they_would_leave_the_normal_range():
     assert P.static_bounds(2.0 ** -240, 2.0 ** -240, P.CCW_A, P.ICC_A)[1] == np.inf
     o, i = P.static_bounds(2.0 ** 300, 2.0 ** 300, P.CCW_A, P.ICC_A)  # degree 4 overflows

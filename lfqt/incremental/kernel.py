@@ -27,8 +27,8 @@ from ..clock import cycle_counter
 from ..indexing import bit, popcount, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
-from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
-from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
+from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
+from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged, static_bounds3
 
 INF = -1
 CELLS_PER_POINT = 8  # the cell storage insert_all starts with (it doubles when full)
@@ -37,19 +37,44 @@ DEAD = -1  # the mark of a freed cell; live cells hold 0 or a cavity stamp (> 0)
 
 
 @njit(cache=True, inline="always")
-def _orient_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez):
-    """Orientation of a, b, c (2D, z ignored) or of a, b, c, e (3D)."""
+def _orient_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, static):
+    """Orientation of a, b, c (2D, z ignored) or of a, b, c, e (3D);
+    ``static``: a static filter bound (statics), np.inf for none."""
     if d == 2:
-        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A)
-    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A)
+        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A, static)
+    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A, static)
 
 
 @njit(cache=True, inline="always")
-def _insphere_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz):
-    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e."""
+def _insphere_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, static):
+    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e;
+    ``static`` as in _orient_pts."""
     if d == 2:
-        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A)
-    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A)
+        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A, static)
+    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A,
+                           static)
+
+
+@njit(cache=True)
+def statics(P, d):
+    """(orient, in-sphere) static filter bounds for calls among the points
+    of P, from their bounding box (planar.static_bounds, spatial.static_bounds3):
+    every call of the insertion loop but _inside_facet_circle's, whose helper
+    point leaves the box."""
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for a in range(3):
+        lo[a] = np.inf
+        hi[a] = -np.inf
+    for k in range(P.shape[0]):
+        for a in range(d):
+            lo[a] = min(lo[a], P[k, a])
+            hi[a] = max(hi[a], P[k, a])
+    if P.shape[0] == 0:
+        return np.inf, np.inf
+    if d == 2:
+        return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)
+    return static_bounds3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], O3D_A, ISP_A)
 
 
 @njit(cache=True)
@@ -110,7 +135,7 @@ def _initial_simplex(P, d, perm):
         else:
             a, b, c = perm[pick[0]], perm[pick[1]], perm[pick[2]]
             o, st = _orient_pts(3, P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2])
+                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2], np.inf)
             if o != 0.0:
                 pick[3] = t
                 return pick
@@ -121,20 +146,21 @@ def _initial_simplex(P, d, perm):
 # The cell storage and the cavity scratch, passed to the kernels as two
 # tuples: C (m, d+1) vertices, N (m, d+1) neighbours and mark (cavity stamps,
 # DEAD for a freed cell), three views of one record per cell (_records);
-# vcell (a live cell of each vertex), free (the free list); stack,
-# conflicts, bcell/bface (cavity-boundary facets) and the ridge hash table.
+# vcell (a live cell of each vertex), free (the free list); stack and slots
+# (the depth-first search), conflicts, bcell/bface (cavity-boundary facets)
+# and the ridge hash table (3D).
 Cells = namedtuple("Cells", "C N mark vcell free")
-Scratch = namedtuple("Scratch", "stack conflicts bcell bface hkeys hvals hstamps")
+Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface hkeys hvals hstamps")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
 
 
 @njit(cache=True, inline="always")
-def _orient_ids(P, d, v0, v1, v2, v3):
+def _orient_ids(P, d, v0, v1, v2, v3, static):
     """Orientation of the points v0, v1, v2 (2D) or v0, v1, v2, v3 (3D)."""
     return _orient_pts(d, P[u(v0), 0], P[u(v0), 1], P[u(v0), d - 1], P[u(v1), 0], P[u(v1), 1],
                        P[u(v1), d - 1], P[u(v2), 0], P[u(v2), 1], P[u(v2), d - 1], P[u(v3), 0],
-                       P[u(v3), 1], P[u(v3), d - 1])
+                       P[u(v3), 1], P[u(v3), d - 1], static)
 
 
 @njit(cache=True, inline="always")
@@ -169,7 +195,7 @@ def _duplicate_in(P, d, C, c, p):
 
 
 @njit(cache=True, inline="always")
-def _conflicts(P, d, C, y, p, span):
+def _conflicts(P, d, C, y, p, span, static):
     """Does cell y conflict with p: (a finite cell whose circumsphere
     strictly contains p, or an infinite cell with p beyond its hull facet,
     or on its plane and strictly inside its circumcircle; the in-sphere
@@ -184,7 +210,7 @@ def _conflicts(P, d, C, y, p, span):
         sv, st = _insphere_pts(d, P[u(a), 0], P[u(a), 1], P[u(a), d - 1], P[u(b), 0],
                                P[u(b), 1], P[u(b), d - 1], P[u(e), 0], P[u(e), 1],
                                P[u(e), d - 1], P[u(g), 0], P[u(g), 1], P[u(g), d - 1],
-                               P[u(p), 0], P[u(p), 1], P[u(p), d - 1])
+                               P[u(p), 0], P[u(p), 1], P[u(p), d - 1], static[1])
         return sv > 0.0, st
     v0, v1, v2, v3 = _with_p(C, d, y, f, p)
     fa = C[u(y), u((f + 1) % width)]
@@ -194,7 +220,7 @@ def _conflicts(P, d, C, y, p, span):
     bx, by, bz = P[u(fb), 0], P[u(fb), 1], P[u(fb), d - 1]
     ex, ey, ez = P[u(fe), 0], P[u(fe), 1], P[u(fe), d - 1]
     px, py, pz = P[u(p), 0], P[u(p), 1], P[u(p), d - 1]
-    o, st = _orient_ids(P, d, v0, v1, v2, v3)
+    o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
     if o != 0.0:
         return o > 0.0, -1
     return _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span), -1
@@ -257,6 +283,30 @@ def _new_cell(C, N, mark, vcell, d, w, x, i, p):
 
 
 @njit(cache=True, inline="always")
+def _new_triangle(C, N, mark, vcell, w, x, i, p):
+    """Triangle w = (p, a, b) for the edge a -> b of cavity triangle x
+    opposite its slot i, glued to the triangle outside that edge; its
+    slots 1 and 2 are left to the caller (the triangles before and after
+    it around p)."""
+    a = C[u(x), u(i + 1 if i < 2 else 0)]
+    b = C[u(x), u(i - 1 if i > 0 else 2)]
+    y = N[u(x), u(i)]
+    mark[u(w)] = 0
+    C[u(w), 0] = p
+    C[u(w), 1] = a
+    C[u(w), 2] = b
+    N[u(w), 0] = y
+    for k in range(3):
+        if N[u(y), u(k)] == x:
+            N[u(y), u(k)] = w
+    vcell[u(p)] = w
+    if a >= 0:
+        vcell[u(a)] = w
+    if b >= 0:
+        vcell[u(b)] = w
+
+
+@njit(cache=True, inline="always")
 def _commit(counts, pending):
     """Add a point's counts to the totals and clear them."""
     for k in range(N_PREDICATE):
@@ -265,7 +315,8 @@ def _commit(counts, pending):
 
 
 @njit(cache=True, inline="always")
-def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
+def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
+                  dup_of):
     """Insert perm[t0:] until done (returns (n, 0)) or until the cell arrays
     (reason 1) or the cavity scratch (2) are too small for the next point,
     before touching it; returns (t, reason) to resume after growing.
@@ -277,7 +328,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
     ``u`` (lfqt.indexing).  Inlined into one kernel per dimension, so that
     ``d`` is a constant there."""
     C, N, mark, vcell, free = cells
-    stack, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
+    stack, slots, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
     n = perm.shape[0]
     width = d + 1
     pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
@@ -307,7 +358,7 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
                 if nb == prev:
                     continue
                 v0, v1, v2, v3 = _with_p(C, d, c, i, p)
-                o, st = _orient_ids(P, d, v0, v1, v2, v3)
+                o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
                 pending[ORIENT] += 1
                 if o < 0.0:
                     prev, c, moved = c, nb, True
@@ -320,81 +371,117 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
             _commit(counts, pending)
             continue
         # ---- cavity: cells whose circumsphere strictly contains p (marked
-        # stamp; cells found outside it stamp + 1)
+        # stamp; cells found outside it stamp + 1), depth first.  A stack
+        # entry is a cell and the faces it has left to look across, as
+        # (count << 2) | next slot.  In 2D a cell entered from x looks across
+        # its two other edges in counter-clockwise order, x's slot + 1 then
+        # + 2: the cavity's cells form a tree (no vertex is inside it), so
+        # the boundary edges come out in counter-clockwise order around p,
+        # which glues the new triangles without a table.
+        #
+        #              w          entered across a-b from x:
+        #            /   \           slot j+1: edge a-w, then
+        #           a --- b         slot j+2: edge w-b
+        #              x            (j: the slot of w, opposite x)
         state[STAMP] += 2
         stamp = state[STAMP]
-        nstack, nconf, nb_count, small = 1, 0, 0, False
+        nstack, nconf, nb_count, small = 1, 1, 0, False
         stack[0] = c
+        slots[0] = width << 2
+        conflicts[0] = c
         mark[u(c)] = stamp
         while nstack > 0 and not small:
-            nstack -= 1
-            x = stack[u(nstack)]
-            small = nconf == conflicts.shape[0]
-            if small:
-                break
-            conflicts[u(nconf)] = x
-            nconf += 1
-            for i in range(width):
-                y = N[u(x), u(i)]
-                if mark[u(y)] == stamp:
-                    continue
-                conflict = False
-                if mark[u(y)] != stamp + 1:
-                    conflict, st = _conflicts(P, d, C, y, p, span)
-                    if st >= 0:
-                        tally(pending, INCIRCLE, st)
-                if conflict:
-                    mark[u(y)] = stamp
-                    small = nstack == stack.shape[0]
-                    if small:
-                        break
-                    stack[u(nstack)] = y
-                    nstack += 1
-                else:
-                    mark[u(y)] = stamp + 1
-                    small = nb_count == bcell.shape[0]
-                    if small:
-                        break
-                    bcell[u(nb_count)] = x
-                    bface[u(nb_count)] = i
-                    nb_count += 1
+            x = stack[u(nstack - 1)]
+            code = slots[u(nstack - 1)]
+            if code < 4:
+                nstack -= 1
+                continue
+            i = code & 3
+            slots[u(nstack - 1)] = code - 4 + (1 if i < width - 1 else 1 - width)
+            y = N[u(x), u(i)]
+            if mark[u(y)] == stamp:
+                continue
+            conflict = False
+            if mark[u(y)] != stamp + 1:
+                conflict, st = _conflicts(P, d, C, y, p, span, static)
+                if st >= 0:
+                    tally(pending, INCIRCLE, st)
+            if conflict:
+                small = nstack == stack.shape[0] or nconf == conflicts.shape[0]
+                if small:
+                    break
+                mark[u(y)] = stamp
+                conflicts[u(nconf)] = y
+                nconf += 1
+                stack[u(nstack)] = y
+                slots[u(nstack)] = width << 2
+                if d == 2:
+                    j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
+                    slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
+                nstack += 1
+            else:
+                mark[u(y)] = stamp + 1
+                small = nb_count == bcell.shape[0]
+                if small:
+                    break
+                bcell[u(nb_count)] = x
+                bface[u(nb_count)] = i
+                nb_count += 1
         if small or 4 * d * nb_count > hkeys.shape[0]:
             pending[:] = 0  # nothing is modified yet: this point is retried after growing
             return t, 2
         if state[NCELLS] + max(nb_count - state[NFREE], 0) > C.shape[0]:
             pending[:] = 0
             return t, 1
-        # ---- one new cell per boundary facet, glued to each other through a
-        # ridge table that uses only a prefix sized to this cavity (load at
-        # most 1/4), so that it stays in L1; stamps invalidate old entries
-        hbits = 4
-        while (1 << hbits) < 2 * d * nb_count:
-            hbits += 1
-        mask = (1 << hbits) - 1
-        hshift = np.uint64(64 - hbits)
-        for b in range(nb_count):
-            i = bface[u(b)]
-            if state[NFREE] > 0:
-                state[NFREE] -= 1
-                w = free[u(state[NFREE])]
-            else:
-                w = state[NCELLS]
-                state[NCELLS] += 1
-            _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
-            for j in range(d):
-                k, key = _ridge_key(C, d, n, w, i, j)
-                # Fibonacci hashing: the product's high bits
-                e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
-                while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
-                    e = (e + 1) & mask
-                if hstamps[u(e)] == stamp:
-                    w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
-                    N[u(w), u(k)] = w2
-                    N[u(w2), u(hvals[u(e)] - w2 * width)] = w
+        if d == 2:
+            # ---- one new triangle (p, a, b) per boundary edge a -> b, in
+            # order around p: glued to the next one across b-p (slot 1) and
+            # to the previous one across p-a (slot 2)
+            for b in range(nb_count):
+                if state[NFREE] > 0:
+                    state[NFREE] -= 1
+                    w = free[u(state[NFREE])]
                 else:
-                    hstamps[u(e)] = stamp
-                    hkeys[u(e)] = key
-                    hvals[u(e)] = w * width + k
+                    w = state[NCELLS]
+                    state[NCELLS] += 1
+                _new_triangle(C, N, mark, vcell, w, bcell[u(b)], bface[u(b)], p)
+                stack[u(b)] = w
+            for b in range(nb_count):
+                w = stack[u(b)]
+                N[u(w), 1] = stack[u(b + 1 if b + 1 < nb_count else 0)]
+                N[u(w), 2] = stack[u(b - 1 if b > 0 else nb_count - 1)]
+        else:
+            # ---- one new cell per boundary facet, glued to each other through a
+            # ridge table that uses only a prefix sized to this cavity (load at
+            # most 1/4), so that it stays in L1; stamps invalidate old entries
+            hbits = 4
+            while (1 << hbits) < 2 * d * nb_count:
+                hbits += 1
+            mask = (1 << hbits) - 1
+            hshift = np.uint64(64 - hbits)
+            for b in range(nb_count):
+                i = bface[u(b)]
+                if state[NFREE] > 0:
+                    state[NFREE] -= 1
+                    w = free[u(state[NFREE])]
+                else:
+                    w = state[NCELLS]
+                    state[NCELLS] += 1
+                _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
+                for j in range(d):
+                    k, key = _ridge_key(C, d, n, w, i, j)
+                    # Fibonacci hashing: the product's high bits
+                    e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
+                    while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
+                        e = (e + 1) & mask
+                    if hstamps[u(e)] == stamp:
+                        w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
+                        N[u(w), u(k)] = w2
+                        N[u(w2), u(hvals[u(e)] - w2 * width)] = w
+                    else:
+                        hstamps[u(e)] = stamp
+                        hkeys[u(e)] = key
+                        hvals[u(e)] = w * width + k
         for q in range(nconf):
             mark[u(conflicts[u(q)])] = DEAD
             free[u(state[NFREE])] = conflicts[u(q)]
@@ -408,13 +495,17 @@ def _insert_range(P, d, perm, hint, span, pick, t0, cells, scratch, state, count
 
 
 @njit(cache=True)
-def _insert_range_2d(P, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
-    return _insert_range(P, 2, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of)
+def _insert_range_2d(P, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
+                     dup_of):
+    return _insert_range(P, 2, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
+                         dup_of)
 
 
 @njit(cache=True)
-def _insert_range_3d(P, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of):
-    return _insert_range(P, 3, perm, hint, span, pick, t0, cells, scratch, state, counts, dup_of)
+def _insert_range_3d(P, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
+                     dup_of):
+    return _insert_range(P, 3, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
+                         dup_of)
 
 
 @njit(cache=True)
@@ -452,6 +543,7 @@ def _grown(cells, size):
 def _new_scratch(size):
     """Cavity scratch for ``size`` cells, and a ridge table of 16 per cell."""
     return Scratch(np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
+                   np.empty(size, dtype=np.int64),
                    np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
                    np.empty(16 * size, dtype=np.int64), np.empty(16 * size, dtype=np.int64),
                    np.zeros(16 * size, dtype=np.int64))
@@ -464,7 +556,7 @@ def _start(P, d, s, cells):
     C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
     width = d + 1
     s3 = s[3] if d == 3 else s[0]
-    o, st = _orient_ids(P, d, s[0], s[1], s[2], s3)
+    o, st = _orient_ids(P, d, s[0], s[1], s[2], s3, np.inf)
     if o < 0.0:
         s[0], s[1] = s[1], s[0]
     for k in range(width):
@@ -526,14 +618,15 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS):
         s[k] = perm[pick[k]]
     state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
     scratch = _new_scratch(256)  # doubled whenever a cavity needs more
+    static = statics(P, d)
     t = 0
     while True:
         if d == 2:
-            t, reason = _insert_range_2d(P, perm, hint, span, pick, t, cells, scratch, state,
-                                         counts, dup_of)
+            t, reason = _insert_range_2d(P, perm, hint, span, static, pick, t, cells, scratch,
+                                         state, counts, dup_of)
         else:
-            t, reason = _insert_range_3d(P, perm, hint, span, pick, t, cells, scratch, state,
-                                         counts, dup_of)
+            t, reason = _insert_range_3d(P, perm, hint, span, static, pick, t, cells, scratch,
+                                         state, counts, dup_of)
         if reason == 0:
             break
         if reason == 1:

@@ -5,4 +5,5 @@ from .counters import (INCIRCLE, INCIRCLE_S1, INCIRCLE_S2, N_PREDICATE, ORIENT, 
 from .levels import CCW_EXACT_DIFF, ICC_EXACT_DIFF, ICC_EXACT_PRODUCTS, binade, level_bounds
 from .planar import (CCW_A, CCW_B, ICC_A, ICC_B, incircle_exact, incircle_staged,
                      orient2d_exact, orient2d_staged, static_bounds)
-from .spatial import ISP_A, O3D_A, insphere_exact, insphere_staged, orient3d_exact, orient3d_staged
+from .spatial import (ISP_A, O3D_A, insphere_exact, insphere_staged, orient3d_exact,
+                      orient3d_staged, static_bounds3)

@@ -16,6 +16,7 @@ from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd
                         dd_lift3, dd_scale, dd_sum3, dd_times, exact_diff, expansion_product,
                         expansion_sign, expansion_sum, int_unit, negate, sign_int, two_diff,
                         two_sum)
+from .planar import STATIC_FLOOR, STATIC_MARGIN
 
 # Shewchuk's stage-A bounds of orient3d and insphere (predicates.c, exactinit)
 O3D_A = (7.0 + 56.0 * EPS) * EPS
@@ -31,9 +32,36 @@ ISP_C = 512.0 * EPS * EPS
 
 
 @njit(cache=True, inline="always")
-def orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound):
+def static_bounds3(wx, wy, wz, o3d, isp):
+    """Static stage-0 bounds (orient, in-sphere) for calls whose points all
+    lie in a box of widths ``wx``, ``wy``, ``wz`` (each the rounded
+    difference of two coordinates), given the dynamic bounds ``o3d``/``isp``;
+    planar.static_bounds' argument in 3D.  Every rounded difference of a
+    call is at most the box's width on its axis, and rounding is monotone:
+
+        orient permanent     3 terms |z| (|xy| + |xy|)        <= 6 wx wy wz
+        in-sphere permanent  4 lifts (<= wx^2 + wy^2 + wz^2)
+                             times 3 terms |z| (|xy| + |xy|)
+                                                 <= 24 (wx^2 + wy^2 + wz^2) wx wy wz
+
+    padded by STATIC_MARGIN for the roundings of these two lines; a bound
+    that left the normal range, or overflowed, is switched off."""
+    vol = wx * wy * wz
+    o = o3d * (6.0 * vol) * STATIC_MARGIN
+    i = isp * (24.0 * (wx * wx + wy * wy + wz * wz) * vol) * STATIC_MARGIN
+    if o3d > 0.0 and not (STATIC_FLOOR <= o < np.inf):
+        o = np.inf
+    if isp > 0.0 and not (STATIC_FLOOR <= i < np.inf):
+        i = np.inf
+    return o, i
+
+
+@njit(cache=True, inline="always")
+def orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound, static=np.inf):
     """(value, stage): value > 0 when (a, b, c, d) is right-handed, i.e.
-    det[b-a, c-a, d-a] > 0; stage 0 filter, 2 exact."""
+    det[b-a, c-a, d-a] > 0; stage 0 filter, 2 exact.  ``static`` as in
+    planar's stage 1: ``static_bounds3`` bounds ``bound * permanent`` for
+    every call whose points lie in one box."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -51,6 +79,8 @@ def orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound):
     bdxady = bdx * ady
     # Shewchuk's det[a-d, b-d, c-d] is minus ours
     det = -(adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady))
+    if abs(det) > static:
+        return det, 0
     permanent = ((abs(bdxcdy) + abs(cdxbdy)) * abs(adz) + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
                  + (abs(adxbdy) + abs(bdxady)) * abs(cdz))
     if abs(det) > bound * permanent:
@@ -128,9 +158,11 @@ def _int_det3(ux, uy, uz, vx, vy, vz, wx, wy, wz, exact):
 
 
 @njit(cache=True, inline="always")
-def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, bound):
+def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, bound,
+                    static=np.inf):
     """(value, stage): value > 0 when e lies inside the sphere through the
-    right-handed tetrahedron (a, b, c, d), < 0 outside, 0 on it."""
+    right-handed tetrahedron (a, b, c, d), < 0 outside, 0 on it; ``static``
+    as in orient3d_staged."""
     aex = ax - ex
     bex = bx - ex
     cex = cx - ex
@@ -170,6 +202,8 @@ def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     clift = cex * cex + cey * cey + cez * cez
     dlift = dex * dex + dey * dey + dez * dez
     det = -((dlift * abc - clift * dab) + (blift * cda - alift * bcd))
+    if abs(det) > static:
+        return det, 0
     abp = abs(aexbey) + abs(bexaey)
     bcp = abs(bexcey) + abs(cexbey)
     cdp = abs(cexdey) + abs(dexcey)
