@@ -148,6 +148,36 @@ def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
             return
 
 
+# Without NaN and infinities (validated input), min and max reduce in
+# vector registers; without reassociation every value is still IEEE's.
+_NO_NAN = {"nnan", "ninf", "nsz"}
+
+
+@njit(cache=True, fastmath=_NO_NAN)
+def _longest_axis(X, lo, hi):
+    """The axis of the longest edge of the bounding box of rows [lo, hi)
+    of X (the first, among equals).  One running minimum and maximum per
+    axis, written out for 2 and 3 axes so that they stay in registers (the
+    scan runs over every point at every level of the Kd-tree)."""
+    d = X.shape[1]
+    lo0 = hi0 = X[u(lo), 0]
+    lo1 = hi1 = X[u(lo), 1] if d > 1 else 0.0
+    lo2 = hi2 = X[u(lo), 2] if d > 2 else 0.0
+    for t in range(lo + 1, hi):
+        lo0 = min(lo0, X[u(t), 0])
+        hi0 = max(hi0, X[u(t), 0])
+        if d > 1:
+            lo1 = min(lo1, X[u(t), 1])
+            hi1 = max(hi1, X[u(t), 1])
+        if d > 2:
+            lo2 = min(lo2, X[u(t), 2])
+            hi2 = max(hi2, X[u(t), 2])
+    w0, w1, w2 = hi0 - lo0, hi1 - lo1, hi2 - lo2
+    if w2 > w0 and w2 > w1:
+        return 2
+    return 1 if w1 > w0 else 0
+
+
 @njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
     """(perm, hint, inorder): the breadth-first labels and their hints, and
@@ -168,8 +198,6 @@ def kdtree_order(P, alternate, sibling):
     q_parent = np.empty(n, dtype=np.int64)
     q_sib = np.empty(n, dtype=np.int64)
     q_depth = np.empty(n, dtype=np.int64)
-    mn = np.empty(d)
-    mx = np.empty(d)
     off = np.empty(2 * _BLOCK, dtype=np.int64)
     head = 0
     tail = 0
@@ -186,21 +214,7 @@ def kdtree_order(P, alternate, sibling):
         if alternate:
             axis = depth % d
         elif hi - lo > 1:
-            for a in range(d):
-                mn[a] = X[u(lo), a]
-                mx[a] = X[u(lo), a]
-            for t in range(lo + 1, hi):
-                for a in range(d):
-                    v = X[u(t), a]
-                    if v < mn[a]:
-                        mn[a] = v
-                    elif v > mx[a]:
-                        mx[a] = v
-            best = -1.0
-            for a in range(d):
-                if mx[a] - mn[a] > best:
-                    best = mx[a] - mn[a]
-                    axis = a
+            axis = _longest_axis(X, lo, hi)
         m = lo + (hi - lo) // 2
         _select_axis(X, ids, lo, hi, m, axis, off)
         v = ids[m]
@@ -433,6 +447,8 @@ def _order(points, name, hint, seed):
     """(perm, hint, store or None when the order gives none for free)."""
     P = np.ascontiguousarray(points, dtype=np.float64)
     n = len(P)
+    if P.ndim != 2 or P.shape[1] not in (2, 3):
+        raise ValueError(f"points must have shape (n, 2) or (n, 3), got {P.shape}")
     if name not in ORDERS:
         raise ValueError(f"unknown order {name!r}; known: {', '.join(ORDERS)}")
     if hint not in ("parent", "sibling"):

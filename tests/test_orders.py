@@ -134,3 +134,19 @@ def test_bad_names():
         orders.order(np.zeros((3, 2)), "morton")
     with pytest.raises(ValueError, match="hint"):
         orders.order(np.zeros((3, 2)), "kdtree", hint="grandparent")
+
+
+@pytest.mark.parametrize("shape", [(5, 4), (5, 1), (5,)])
+def test_orders_take_2d_and_3d_points_only(shape):
+    with pytest.raises(ValueError, match=r"shape \(n, 2\) or \(n, 3\)"):
+        orders.order(np.zeros(shape), "kdtree")
+
+
+def test_longest_axis_takes_the_first_among_equal_edges():
+    X = np.array([[0.0, 0.0, 0.0], [2.0, 2.0, 1.0]])
+    assert orders._longest_axis(X, 0, 2) == 0
+    X[1] = [1.0, 2.0, 2.0]
+    assert orders._longest_axis(X, 0, 2) == 1
+    X[1] = [1.0, 1.0, 2.0]
+    assert orders._longest_axis(X, 0, 2) == 2
+    assert orders._longest_axis(X[:, :2], 0, 2) == 0
