@@ -54,6 +54,27 @@ def popcount(typingctx, v):
 
 
 @intrinsic
+def prefetch(typingctx, arr, i):
+    """Ask the caches for row i of a 2D array before it is read
+    (llvm.prefetch: a read, kept in every level).  A hint: it never faults,
+    whatever i is, and changes no result."""
+    def codegen(context, builder, signature, args):
+        aty = signature.args[0]
+        ary = context.make_array(aty)(context, builder, args[0])
+        stride = builder.extract_value(ary.strides, 0)
+        base = builder.ptrtoint(ary.data, ir.IntType(64))
+        addr = builder.add(base, builder.mul(args[1], stride))
+        i8p = ir.IntType(8).as_pointer()
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [i8p, ir.IntType(32), ir.IntType(32),
+                                                            ir.IntType(32)]), "llvm.prefetch.p0i8")
+        builder.call(fn, [builder.inttoptr(addr, i8p), ir.Constant(ir.IntType(32), 0),
+                          ir.Constant(ir.IntType(32), 3), ir.Constant(ir.IntType(32), 1)])
+        return context.get_dummy_value()
+    return types.none(arr, types.int64), codegen
+
+
+@intrinsic
 def borrow(typingctx, arr):
     """A view of ``arr`` that holds no reference: the same data, shape and
     strides with a null memory-info, on which numba's reference counting is

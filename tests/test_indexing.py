@@ -3,7 +3,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.indexing import bit, borrow, popcount, rank, stack_array, u
+from lfqt.indexing import bit, borrow, popcount, prefetch, rank, stack_array, u
 
 
 @njit(cache=True)
@@ -86,3 +86,15 @@ def test_stack_array_holds_what_is_written_and_passes_down(values):
     size, total, last = _through_stack(np.array(values))
     assert size == 16 and last == values[-1]
     assert total == _sum_first(np.array(values), len(values))
+
+
+def test_prefetch_is_a_hint_that_never_faults():
+    @njit  # not cached: the assembly of a cached kernel cannot be inspected
+    def touch(A, i):
+        prefetch(A, i)
+        return A[0, 0]
+
+    A = np.arange(12, dtype=np.int32).reshape(4, 3)
+    for i in (0, 3, 1 << 40, -(1 << 40)):  # far outside: still no fault
+        assert touch(A, i) == 0
+    assert "prefetch" in touch.inspect_asm(touch.signatures[0])

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from ..clock import cycle_counter
-from ..indexing import bit, popcount, rank, u
+from ..indexing import bit, popcount, prefetch, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
@@ -415,6 +415,8 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
                 nconf += 1
                 stack[u(nstack)] = y
                 slots[u(nstack)] = width << 2
+                for k in range(width):  # y's neighbours are read next: ask for all at once
+                    prefetch(C, np.int64(N[u(y), u(k)]))
                 if d == 2:
                     j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
                     slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
