@@ -396,7 +396,7 @@ def _hilbert_sorted(P, ids, grid=False):
     if grid:
         return ids[sorted_by_key(hilbert_keys(P, ids))]
     ids = np.array(ids, dtype=np.int64)
-    X = np.ascontiguousarray(P[ids])
+    X = np.take(P, ids, axis=0)  # rows: a fraction of fancy indexing's time
     off = np.empty(2 * _BLOCK, dtype=np.int64)
     if P.shape[1] == 2:
         _hilbert_median_2d(X, ids, 0, len(ids), 0, True, True, off)

@@ -105,7 +105,7 @@ def insert_bin(state, lo, hi, order, counts, part):
     ids = run_starts(state.gaps, lo, hi)
     t_order = 0.0
     if len(ids) >= 3:
-        P = np.ascontiguousarray(state.mesh.P[ids])
+        P = np.take(state.mesh.P, ids, axis=0)
         t0 = time.perf_counter()
         perm, hints = orders.order(P, order)
         t_order = time.perf_counter() - t0

@@ -91,7 +91,7 @@ def cut_chunk(kind, what, start, scale_exp, nodes, tiles):
     tile = assign(P, nodes)
     order = np.argsort(tile, kind="stable")
     starts = np.searchsorted(tile[order], np.arange(tiles + 1))
-    return starts, start + order.astype(np.int64), P[order]
+    return starts, start + order.astype(np.int64), np.take(P, order, axis=0)
 
 
 def piece(cut, t):
