@@ -314,19 +314,42 @@ def _commit(counts, pending):
         pending[k] = 0
 
 
+# _insert_range inserts perm[t0:] until done (returns (n, 0)) or until the
+# cell arrays (reason 1) or the cavity scratch (2) are too small for the next
+# point, before touching it; it returns (t, reason) to resume after growing.
+#
+# Its per-point loops (the walk, the cavity, the new cells and their ridge
+# table) are written out in it: an inlined helper that loops and takes the
+# arrays costs numba an atomic reference count per array and call (moving the
+# 3D gluing into one measured 4-10% slower).  No array is reassigned in it
+# for the same reason.  Indices go through ``u`` (lfqt.indexing).  It is
+# inlined into one kernel per dimension, so that ``d`` is a constant there.
+#
+# The cavity: cells whose circumsphere strictly contains p (marked stamp;
+# cells found outside it stamp + 1), depth first.  A stack entry is a cell
+# and the faces it has left to look across, as (count << 2) | next slot.  In
+# 2D a cell entered from x looks across its two other edges in
+# counter-clockwise order, x's slot + 1 then + 2: the cavity's cells form a
+# tree (no vertex is inside it), so the boundary edges come out in
+# counter-clockwise order around p, which glues the new triangles in a ring
+# without a table.  With p in x, below the edge a-b, counter-clockwise
+# around p runs from a (right) over w to b (left):
+#
+#              w          y, entered across b-a from x:
+#            /   \          its slot j+1: edge a-w, then
+#           b --- a        its slot j+2: edge w-b
+#              x           (j: the slot of w, opposite x)
+#              p
+#
+# The new cells: in 2D a triangle (p, a, b) per boundary edge a -> b, glued
+# to the next one across b-p (slot 1) and to the previous one across p-a
+# (slot 2); in 3D a cell per boundary facet, glued to each other through a
+# ridge table that uses only a prefix sized to this cavity (load at most
+# 1/4), so that it stays in L1; stamps invalidate old entries.
 @njit(cache=True, inline="always")
 def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
                   dup_of):
-    """Insert perm[t0:] until done (returns (n, 0)) or until the cell arrays
-    (reason 1) or the cavity scratch (2) are too small for the next point,
-    before touching it; returns (t, reason) to resume after growing.
-
-    The per-point loops (the walk, the cavity, the new cells and their ridge
-    table) are written out here: an inlined helper that loops and takes the
-    arrays costs numba an atomic reference count per array and call.  No
-    array is reassigned in here for the same reason.  Indices go through
-    ``u`` (lfqt.indexing).  Inlined into one kernel per dimension, so that
-    ``d`` is a constant there."""
+    """Insert perm[t0:] (see above)."""
     C, N, mark, vcell, free = cells
     stack, slots, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
     n = perm.shape[0]
@@ -370,19 +393,7 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
             counts[DUPLICATES] += 1
             _commit(counts, pending)
             continue
-        # ---- cavity: cells whose circumsphere strictly contains p (marked
-        # stamp; cells found outside it stamp + 1), depth first.  A stack
-        # entry is a cell and the faces it has left to look across, as
-        # (count << 2) | next slot.  In 2D a cell entered from x looks across
-        # its two other edges in counter-clockwise order, x's slot + 1 then
-        # + 2: the cavity's cells form a tree (no vertex is inside it), so
-        # the boundary edges come out in counter-clockwise order around p,
-        # which glues the new triangles without a table.
-        #
-        #              w          entered across a-b from x:
-        #            /   \           slot j+1: edge a-w, then
-        #           a --- b         slot j+2: edge w-b
-        #              x            (j: the slot of w, opposite x)
+        # ---- cavity (see above)
         state[STAMP] += 2
         stamp = state[STAMP]
         nstack, nconf, nb_count, small = 1, 1, 0, False
@@ -435,27 +446,21 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
         if state[NCELLS] + max(nb_count - state[NFREE], 0) > C.shape[0]:
             pending[:] = 0
             return t, 1
+        for b in range(nb_count):  # ---- the new cells' ids (see above)
+            if state[NFREE] > 0:
+                state[NFREE] -= 1
+                stack[u(b)] = free[u(state[NFREE])]
+            else:
+                stack[u(b)] = state[NCELLS]
+                state[NCELLS] += 1
         if d == 2:
-            # ---- one new triangle (p, a, b) per boundary edge a -> b, in
-            # order around p: glued to the next one across b-p (slot 1) and
-            # to the previous one across p-a (slot 2)
             for b in range(nb_count):
-                if state[NFREE] > 0:
-                    state[NFREE] -= 1
-                    w = free[u(state[NFREE])]
-                else:
-                    w = state[NCELLS]
-                    state[NCELLS] += 1
-                _new_triangle(C, N, mark, vcell, w, bcell[u(b)], bface[u(b)], p)
-                stack[u(b)] = w
+                _new_triangle(C, N, mark, vcell, stack[u(b)], bcell[u(b)], bface[u(b)], p)
             for b in range(nb_count):
                 w = stack[u(b)]
                 N[u(w), 1] = stack[u(b + 1 if b + 1 < nb_count else 0)]
                 N[u(w), 2] = stack[u(b - 1 if b > 0 else nb_count - 1)]
         else:
-            # ---- one new cell per boundary facet, glued to each other through a
-            # ridge table that uses only a prefix sized to this cavity (load at
-            # most 1/4), so that it stays in L1; stamps invalidate old entries
             hbits = 4
             while (1 << hbits) < 2 * d * nb_count:
                 hbits += 1
@@ -463,12 +468,7 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
             hshift = np.uint64(64 - hbits)
             for b in range(nb_count):
                 i = bface[u(b)]
-                if state[NFREE] > 0:
-                    state[NFREE] -= 1
-                    w = free[u(state[NFREE])]
-                else:
-                    w = state[NCELLS]
-                    state[NCELLS] += 1
+                w = stack[u(b)]
                 _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
                 for j in range(d):
                     k, key = _ridge_key(C, d, n, w, i, j)
