@@ -159,16 +159,15 @@ def _longest_axis(X, lo, hi):
     of X (the first, among equals).  One running minimum and maximum per
     axis, written out for 2 and 3 axes so that they stay in registers (the
     scan runs over every point at every level of the Kd-tree)."""
-    d = X.shape[1]
+    d = X.shape[1]  # 2 or 3 (_order)
     lo0 = hi0 = X[u(lo), 0]
-    lo1 = hi1 = X[u(lo), 1] if d > 1 else 0.0
+    lo1 = hi1 = X[u(lo), 1]
     lo2 = hi2 = X[u(lo), 2] if d > 2 else 0.0
     for t in range(lo + 1, hi):
         lo0 = min(lo0, X[u(t), 0])
         hi0 = max(hi0, X[u(t), 0])
-        if d > 1:
-            lo1 = min(lo1, X[u(t), 1])
-            hi1 = max(hi1, X[u(t), 1])
+        lo1 = min(lo1, X[u(t), 1])
+        hi1 = max(hi1, X[u(t), 1])
         if d > 2:
             lo2 = min(lo2, X[u(t), 2])
             hi2 = max(hi2, X[u(t), 2])

@@ -287,7 +287,9 @@ def _new_triangle(C, N, mark, vcell, w, x, i, p):
     """Triangle w = (p, a, b) for the edge a -> b of cavity triangle x
     opposite its slot i, glued to the triangle outside that edge; its
     slots 1 and 2 are left to the caller (the triangles before and after
-    it around p)."""
+    it around p).  _new_cell's 2D case, with p in a fixed slot: _new_cell
+    and the ring glued through slots i + 1, i + 2 measured 4-6% slower
+    (1M 2D cavity, 350-358 -> 372-385 ns/pt)."""
     a = C[u(x), u(i + 1 if i < 2 else 0)]
     b = C[u(x), u(i - 1 if i > 0 else 2)]
     y = N[u(x), u(i)]

@@ -98,13 +98,18 @@ def static_bounds(wx, wy, ccw, icc):
     which STATIC_MARGIN pads for the roundings of these two lines.  A bound
     that left the normal range, or overflowed, is switched off."""
     area = wx * wy
-    o = ccw * (2.0 * area) * STATIC_MARGIN
-    i = icc * (6.0 * (wx * wx + wy * wy) * area) * STATIC_MARGIN
-    if ccw > 0.0 and not (STATIC_FLOOR <= o < np.inf):
-        o = np.inf
-    if icc > 0.0 and not (STATIC_FLOOR <= i < np.inf):
-        i = np.inf
-    return o, i
+    return (usable_static(ccw, ccw * (2.0 * area) * STATIC_MARGIN),
+            usable_static(icc, icc * (6.0 * (wx * wx + wy * wy) * area) * STATIC_MARGIN))
+
+
+@njit(cache=True, inline="always")
+def usable_static(bound, static):
+    """``static`` (a static bound for the dynamic ``bound``), or inf (off)
+    where it left the normal range or overflowed; a zero ``bound`` keeps
+    its zero static bound."""
+    if bound > 0.0 and not (STATIC_FLOOR <= static < np.inf):
+        return np.inf
+    return static
 
 
 @njit(cache=True)

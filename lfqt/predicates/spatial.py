@@ -16,7 +16,7 @@ from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd
                         dd_lift3, dd_scale, dd_sum3, dd_times, exact_diff, expansion_product,
                         expansion_sign, expansion_sum, int_unit, negate, sign_int, two_diff,
                         two_sum)
-from .planar import STATIC_FLOOR, STATIC_MARGIN
+from .planar import STATIC_MARGIN, usable_static
 
 # Shewchuk's stage-A bounds of orient3d and insphere (predicates.c, exactinit)
 O3D_A = (7.0 + 56.0 * EPS) * EPS
@@ -47,13 +47,9 @@ def static_bounds3(wx, wy, wz, o3d, isp):
     padded by STATIC_MARGIN for the roundings of these two lines; a bound
     that left the normal range, or overflowed, is switched off."""
     vol = wx * wy * wz
-    o = o3d * (6.0 * vol) * STATIC_MARGIN
-    i = isp * (24.0 * (wx * wx + wy * wy + wz * wz) * vol) * STATIC_MARGIN
-    if o3d > 0.0 and not (STATIC_FLOOR <= o < np.inf):
-        o = np.inf
-    if isp > 0.0 and not (STATIC_FLOOR <= i < np.inf):
-        i = np.inf
-    return o, i
+    return (usable_static(o3d, o3d * (6.0 * vol) * STATIC_MARGIN),
+            usable_static(isp, isp * (24.0 * (wx * wx + wy * wy + wz * wz) * vol)
+                          * STATIC_MARGIN))
 
 
 @njit(cache=True, inline="always")
