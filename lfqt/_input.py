@@ -64,43 +64,44 @@ def coordinates2d(points, workers=None):
     (no copies: a point's x and y then share a cache line in the Morton-order
     gather); the exponent is exponent_for's, from the same scan."""
     arr = as_exact_float(points, (2,))
-    x, y = arr[:, 0], arr[:, 1]
-    bad, first, big, small = _scan_all(x, y, workers)
-    if bad:
-        raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
-    return x, y, exponent_for(x.dtype, big, small)
+    big, small = _checked_magnitudes(arr, workers)
+    return arr[:, 0], arr[:, 1], exponent_for(arr.dtype, big, small)
 
 
-def _scan_all(x, y, workers=None):
-    """(rows with NaN/inf, first such row, max |v|, min nonzero |v|)."""
+def _checked_magnitudes(arr, workers=None):
+    """(max |v|, min nonzero |v|) over the (n, d) float array, in one pass
+    (split over ``workers``); ValueError for rows with NaN or inf."""
     workers = workers or Workers(1)
-    parts = workers.map(workers.chunks(x.shape[0]), lambda c, lo, hi: _scan(x, y, lo, hi))
-    firsts = [p[1] for p in parts if p[0]]
-    return (sum(p[0] for p in parts), firsts[0] if firsts else -1,
-            max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf))
+    parts = workers.map(workers.chunks(arr.shape[0]), lambda c, lo, hi: _scan(arr, lo, hi))
+    bad = sum(p[0] for p in parts)
+    if bad:
+        first = min(p[1] for p in parts if p[0])
+        raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
+    return max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf)
 
 
 @njit(cache=True, nogil=True)
-def _scan(x, y, lo, hi):
-    """One pass over [lo, hi): (rows with NaN/inf, first such row, max |v|,
-    min nonzero |v|)."""
+def _scan(A, lo, hi):
+    """One pass over rows [lo, hi) of A: (rows with NaN/inf, first such row,
+    max |v|, min nonzero |v|)."""
     bad = 0
     first = -1
     big = 0.0
     small = np.inf
     for i in range(lo, hi):
-        a = abs(x[i])
-        b = abs(y[i])
-        if not (a < np.inf and b < np.inf):
+        finite = True
+        for a in range(A.shape[1]):
+            finite &= abs(A[i, a]) < np.inf
+        if not finite:
             bad += 1
             if first < 0:
                 first = i
             continue
-        big = max(big, a, b)
-        if a > 0.0:
-            small = min(small, a)
-        if b > 0.0:
-            small = min(small, b)
+        for a in range(A.shape[1]):
+            v = abs(A[i, a])
+            big = max(big, v)
+            if v > 0.0:
+                small = min(small, v)
     return bad, first, big, small
 
 
@@ -146,15 +147,12 @@ def exact_points(points, dims):
     """Validated (n, d) float64 coordinates rescaled by an exact power of two
     into the exactness window of dimension d; returns (P, scale exponent)."""
     arr = as_exact_float(points, dims)
-    finite = np.isfinite(arr).all(axis=1)
-    if not finite.all():
-        bad = np.flatnonzero(~finite)
-        raise ValueError(f"points contain NaN or inf in {len(bad)} rows; the first is row {bad[0]}")
+    big, small = _checked_magnitudes(arr)
+    window = (MAX_EXP, MIN_ULP_EXP) if arr.shape[1] == 2 else (MAX_EXP_3D, MIN_ULP_EXP_3D)
+    s = window_exponent(float(big), float(small), *window)
     P = np.array(arr, dtype=np.float64, order="C")
-    mags = np.abs(P[P != 0])
-    window = (MAX_EXP, MIN_ULP_EXP) if P.shape[1] == 2 else (MAX_EXP_3D, MIN_ULP_EXP_3D)
-    s = window_exponent(float(mags.max(initial=0.0)), float(mags.min(initial=np.inf)), *window)
-    P *= 2.0 ** s
+    if s:
+        P *= 2.0 ** s
     return P, s
 
 

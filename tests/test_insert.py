@@ -107,6 +107,11 @@ def test_explicit_order_and_bad_order():
     assert tri.stats["order"] == "explicit"
     with pytest.raises(ValueError, match="permutation"):
         lfqt.insert(pts, order=(np.zeros(50, int), np.full(50, -1)))
+    for bad_hint in (50, -2):  # an index into the points, or -1
+        with pytest.raises(ValueError, match="a point index or -1"):
+            lfqt.insert(pts, order=(perm, np.full(50, bad_hint)))
+    hinted = insert_verified(pts, order=(perm, np.r_[-1, perm[:-1]]))
+    assert cells(hinted.simplices) == cells(tri.simplices)
 
 
 def test_more_points_than_int32_cell_ids_allow_is_a_clear_error(monkeypatch):
@@ -144,13 +149,19 @@ def test_growth_paths_give_the_same_mesh():
 
 
 def test_kdtree_counts_match_paper_two(rng):
-    tri = insert_verified(rng.random((30000, 3)), order="kdtree")
+    pts = rng.random((30000, 3))
+    tri = insert_verified(pts, order="kdtree", phase_times=True)
     per = tri.stats["per_point"]
     assert 9 < per["orientation_tests"] < 15  # paper 2, Table 8: about 11.7
     assert 12 < per["conflicts"] < 25  # paper 2 counts 17 inside CGAL
     sec = tri.stats["seconds"]
     assert sec["order"] > 0 and sec["locate"] > 0 and sec["cavity"] > 0
     assert sec["locate"] + sec["cavity"] <= sec["insert"] * 1.05
+    # without phase times: the same counts, and no cycles reported as zero
+    plain = lfqt.insert(pts, order="kdtree")
+    assert "locate" not in plain.stats["seconds"] and "cycles" not in plain.stats
+    timed = {k: v for k, v in tri.stats["counts"].items() if not k.endswith("_cycles")}
+    assert plain.stats["counts"] == timed and tri.stats["counts"]["cavity_cycles"] > 0
 
 
 def _insphere(pts, cell, p):
