@@ -106,6 +106,17 @@ def _partition(X, ids, a, b, axis, pv, pi, off):
     return l
 
 
+@njit(cache=True, inline="always")
+def _split(X, ids, lo, hi, p, axis, off):
+    """One round of selection: partition rows [lo, hi) about row p's value
+    (and id); returns the pivot's place, with the rows before it in front."""
+    _swap_rows(X, ids, p, hi - 1)  # the pivot waits at the end while the rest is split
+    pv, pi = X[u(hi - 1), axis], ids[u(hi - 1)]
+    at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off)
+    _swap_rows(X, ids, at, hi - 1)
+    return at
+
+
 @njit(cache=True)
 def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
     """Partition rows [lo, hi) of X (coordinates, kept in step with ids) by
@@ -115,37 +126,96 @@ def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
     off: scratch for 2 * _BLOCK offsets (_partition), allocated once by the
     caller for all its selections.
 
-    Median of three suits ordinary and sorted data, but inputs exist that
-    make it quadratic: past ``budget`` rounds (default: twice the depth of a
-    balanced recursion plus 8, which ordinary data does not reach) the pivot
-    is a pseudo-random row (splitmix64 of the range), expected linear on any
-    input.  The guard measured free (1M points, 2D and 3D, min of 7)."""
+    Long ranges take their pivots from a sample (_sampled_pivot) while they
+    are long, short ones median of three (_select_short).  Both suit
+    ordinary and sorted data, but inputs exist that make them quadratic: a
+    ``budget`` of rounds (default: twice the depth of a balanced recursion
+    plus 8, which ordinary data does not reach) bounds them, after which the
+    pivots are pseudo-random rows (splitmix64 of the range), expected linear
+    on any input.  The guard measured free (1M points, 2D and 3D, min of 7)."""
     if budget < 0:
         budget = 2 * (64 - leading_zeros(np.uint64(hi - lo))) + 8
-    state = range_seed(lo, hi)
-    while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
-        # median of three values, moved to the end while the rest is split
-        if (va <= vb) == (vb <= vc):
-            p = mid
-        elif (vb <= va) == (va <= vc):
-            p = lo
-        else:
-            p = hi - 1
+    while hi - lo >= _SAMPLED and budget > 0:
         budget -= 1
-        if budget < 0:
-            state, p = random_index(state, lo, hi)
-        _swap_rows(X, ids, p, hi - 1)
-        pv, pi = X[u(hi - 1), axis], ids[u(hi - 1)]
-        at = _partition(X, ids, lo, hi - 1, axis, pv, pi, off)
-        _swap_rows(X, ids, at, hi - 1)
+        at = _split(X, ids, lo, hi, _sampled_pivot(X, ids, lo, hi, k, axis, off), axis, off)
         if k < at:
             hi = at
         elif k > at:
             lo = at + 1
         else:
             return
+    _select_short(X, ids, lo, hi, k, axis, off, budget)
+
+
+@njit(cache=True)
+def _select_short(X, ids, lo, hi, k, axis, off, budget):
+    """_select_axis's rounds with median-of-three pivots (pseudo-random ones
+    past ``budget`` rounds)."""
+    state = range_seed(lo, hi)
+    while hi - lo > 1:
+        budget -= 1
+        if budget < 0:
+            state, p = random_index(state, lo, hi)
+        else:
+            p = _median_of_three(X, lo, hi, axis)
+        at = _split(X, ids, lo, hi, p, axis, off)
+        if k < at:
+            hi = at
+        elif k > at:
+            lo = at + 1
+        else:
+            return
+
+
+@njit(cache=True, inline="always")
+def _median_of_three(X, lo, hi, axis):
+    """The row of the median of rows lo, mid, hi - 1's values."""
+    mid = (lo + hi) >> 1
+    va, vb, vc = X[u(lo), axis], X[u(mid), axis], X[u(hi - 1), axis]
+    if (va <= vb) == (vb <= vc):
+        return mid
+    if (vb <= va) == (va <= vc):
+        return lo
+    return hi - 1
+
+
+_SAMPLED = 4096  # ranges at least this long take their pivot from a sample
+
+
+@njit(cache=True)
+def _sampled_pivot(X, ids, lo, hi, k, axis, off):
+    """The row of a pivot for rank k of rows [lo, hi): in a sample of
+    sqrt(hi - lo) rows spread over the range, the row a few of the sample's
+    standard deviations past k's quantile, on the side away from the
+    range's nearer end, so that k falls in the smaller part with high
+    probability (Floyd and Rivest 1975)::
+
+        [ .....  k  ^  ..................... ]   k near the low end:
+                  pivot                         keep [lo, pivot)
+        [ ..................... ^  k  .....  ]   near the high end:
+                              pivot             keep (pivot, hi)
+
+    A median selection then partitions the whole range about 1.5 times
+    (once, then the larger half once more), where median of three takes
+    about 3.  The sample's rows are copied with their positions, and
+    selected by value and id like the range itself (by _select_short: a
+    numba function that calls itself back does not survive its cache)."""
+    size = hi - lo
+    s = np.int64(np.sqrt(size))
+    step = size // s
+    sample = np.empty((s, 2))
+    sample_ids = np.empty(s, dtype=np.int64)
+    for j in range(s):
+        row = lo + j * step + (step >> 1)
+        sample[j, 0] = X[u(row), axis]
+        sample[j, 1] = row
+        sample_ids[j] = ids[u(row)]
+    f = (k - lo) / size
+    gap = 1.5 * np.sqrt(s)  # three standard deviations of a median's sample rank
+    j = np.int64(f * s + gap) if f < 0.5 else np.int64(f * s - gap)
+    j = min(max(j, 0), s - 1)
+    _select_short(sample, sample_ids, 0, s, j, 0, off, 2 * (64 - leading_zeros(np.uint64(s))) + 8)
+    return np.int64(sample[j, 1])
 
 
 # Without NaN and infinities (validated input), min and max reduce in
@@ -177,11 +247,61 @@ def _longest_axis(X, lo, hi):
     return 1 if w1 > w0 else 0
 
 
+_SORTED = 8  # Kd-tree nodes this small are insertion-sorted, which selects their median
+
+
+@njit(cache=True, inline="always")
+def _insertion_sort(X, ids, lo, hi, axis):
+    """Sort rows [lo, hi) by X[:, axis], ties by id."""
+    for i in range(lo + 1, hi):
+        j = i
+        while j > lo and _before(X, ids, j, axis, X[u(j - 1), axis], ids[u(j - 1)]):
+            _swap_rows(X, ids, j, j - 1)
+            j -= 1
+
+
+@njit(cache=True, nogil=True)
+def _kdtree_inorder(X, ids, alternate):
+    """Every selection of the Kd-tree on rows of X (kept in step with ids),
+    depth first: each node's rows [lo, hi) split at their median
+    lo + (hi - lo) // 2 along its axis, and then its children's.  The
+    tree's shape follows from n alone, so the order of the selections is
+    free: depth first, a node's rows are still in cache for its children,
+    and a small node is done in one insertion sort, where half the nodes of
+    a tree hold one or two points and a selection's call cost dominates
+    them.  A stack of pending nodes never holds more than the depth + 1."""
+    n, d = X.shape
+    off = np.empty(2 * _BLOCK, dtype=np.int64)
+    s_lo = np.empty(66, dtype=np.int64)
+    s_hi = np.empty(66, dtype=np.int64)
+    s_depth = np.empty(66, dtype=np.int64)
+    top = 0
+    if n > 1:
+        s_lo[0], s_hi[0], s_depth[0] = 0, n, 0
+        top = 1
+    while top > 0:
+        top -= 1
+        lo, hi, depth = s_lo[top], s_hi[top], s_depth[top]
+        axis = depth % d if alternate else _longest_axis(X, lo, hi)
+        m = lo + (hi - lo) // 2
+        if hi - lo <= _SORTED:
+            _insertion_sort(X, ids, lo, hi, axis)
+        else:
+            _select_axis(X, ids, lo, hi, m, axis, off)
+        if hi - m - 1 > 1:
+            s_lo[top], s_hi[top], s_depth[top] = m + 1, hi, depth + 1
+            top += 1
+        if m - lo > 1:
+            s_lo[top], s_hi[top], s_depth[top] = lo, m, depth + 1
+            top += 1
+
+
 @njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
     """(perm, hint, inorder): the breadth-first labels and their hints, and
-    the ids as the median selections leave them, the tree's in-order: every
-    subtree a contiguous range with its median in the middle::
+    the ids as the median selections leave them (_kdtree_inorder), the
+    tree's in-order: every subtree a contiguous range with its median in
+    the middle::
 
         inorder   [ left subtree | median | right subtree ]
                     [ l | m | r ]            [ l | m | r ]
@@ -189,44 +309,35 @@ def kdtree_order(P, alternate, sibling):
     n, d = P.shape
     ids = np.arange(n)
     X = P.copy()
+    _kdtree_inorder(X, ids, alternate)
     perm = np.empty(n, dtype=np.int64)
     hint = np.empty(n, dtype=np.int64)
-    # breadth-first queue of (lo, hi, parent point, left sibling point, depth)
+    # breadth-first queue of (lo, hi, parent point, left sibling's slot)
     q_lo = np.empty(n, dtype=np.int64)
     q_hi = np.empty(n, dtype=np.int64)
     q_parent = np.empty(n, dtype=np.int64)
     q_sib = np.empty(n, dtype=np.int64)
-    q_depth = np.empty(n, dtype=np.int64)
-    off = np.empty(2 * _BLOCK, dtype=np.int64)
     head = 0
     tail = 0
     if n:
-        q_lo[0], q_hi[0], q_parent[0], q_sib[0], q_depth[0] = 0, n, -1, -1, 0
+        q_lo[0], q_hi[0], q_parent[0], q_sib[0] = 0, n, -1, -1
         tail = 1
     while head < tail:
-        lo, hi = q_lo[head], q_hi[head]
-        parent, depth = q_parent[head], q_depth[head]
+        lo, hi, parent = q_lo[head], q_hi[head], q_parent[head]
         # a node's label is its queue slot, so the left sibling (the slot
         # before) is already labelled when its right sibling comes up
         sib = perm[q_sib[head]] if q_sib[head] >= 0 else -1
-        axis = 0
-        if alternate:
-            axis = depth % d
-        elif hi - lo > 1:
-            axis = _longest_axis(X, lo, hi)
         m = lo + (hi - lo) // 2
-        _select_axis(X, ids, lo, hi, m, axis, off)
         v = ids[m]
         perm[head] = v
         hint[head] = sib if (sibling and sib >= 0) else parent
         left_slot = -1
         if m > lo:
-            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail], q_depth[tail] = lo, m, v, -1, depth + 1
+            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail] = lo, m, v, -1
             left_slot = tail
             tail += 1
         if hi > m + 1:
-            q_lo[tail], q_hi[tail], q_parent[tail], q_depth[tail] = m + 1, hi, v, depth + 1
-            q_sib[tail] = left_slot
+            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail] = m + 1, hi, v, left_slot
             tail += 1
         head += 1
     return perm, hint, ids

@@ -59,17 +59,23 @@ def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rn
 
 
 @pytest.mark.parametrize("budget", [0, 1, 3, -1])
-@pytest.mark.parametrize("kind", ["uniform", "ties", "organ pipe"])
-def test_selection_past_its_pivot_budget_is_still_nth_element(kind, budget, rng):
+@pytest.mark.parametrize("kind", ["uniform", "ties", "organ pipe", "sorted", "periodic"])
+@pytest.mark.parametrize("n, k", [(2500, 1234), (3 * orders._SAMPLED, 200),
+                                  (3 * orders._SAMPLED, 3 * orders._SAMPLED // 2),
+                                  (3 * orders._SAMPLED, 3 * orders._SAMPLED - 300)])
+def test_selection_past_its_pivot_budget_is_still_nth_element(n, k, kind, budget, rng):
     # budget 0: pseudo-random pivots from the first round (the guard against
-    # inputs that defeat median of three); -1: the default budget
-    n = 2500
+    # inputs that defeat median of three); -1: the default budget.  Ranges of
+    # _SAMPLED rows or more take sampled pivots (k near either end, or the
+    # median), "periodic" repeating with the sample's stride.
     pipe = np.minimum(np.arange(n), n - np.arange(n)).astype(float)
     X = {"uniform": rng.random((n, 2)), "ties": rng.integers(0, 4, (n, 2)).astype(float),
-         "organ pipe": np.c_[pipe, rng.random(n)]}[kind]
+         "organ pipe": np.c_[pipe, rng.random(n)],
+         "sorted": np.c_[np.arange(n, dtype=float), rng.random(n)],
+         "periodic": np.c_[np.arange(n) % int(np.sqrt(n - 200)), rng.random(n)]}[kind]
     ids = np.arange(n)
     Xs, ids_s = X.copy(), ids.copy()
-    lo, hi, k = 100, 2400, 1234
+    lo, hi = 100, n - 100
     orders._select_axis(Xs, ids_s, lo, hi, k, 0, np.empty(2 * orders._BLOCK, dtype=np.int64),
                         budget)
     assert np.array_equal(Xs, X[ids_s])  # rows moved with their ids
