@@ -141,8 +141,8 @@ def test_growth_paths_give_the_same_mesh():
     small = insert_all(P3, 3, perm, hint, 16.0, 8)  # tiny cell storage, grows many times
     big = insert_all(P3, 3, perm, hint, 16.0, 0)
     ids = np.arange(len(pts))
-    s_small, _ = finite_cells(small[0], small[1], small[2], ids)
-    s_big, _ = finite_cells(big[0], big[1], big[2], ids)
+    s_small, _, _ = finite_cells(small[0], small[1], small[2], ids)
+    s_big, _, _ = finite_cells(big[0], big[1], big[2], ids)
     assert cells(s_small) == cells(s_big)
     assert big[5][CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
     insert_verified(pts, order="input")

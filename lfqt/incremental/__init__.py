@@ -75,8 +75,8 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
-        simplices, neighbors = kernel.finite_cells(C, N, alive, store)
-        facets = kernel.hull_facets(C, alive, store)
+        simplices, neighbors, infinite = kernel.finite_cells(C, N, alive, store)
+        facets = kernel.hull_facets(C, infinite, store)
         hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
     else:
         simplices, neighbors, hull, dup_of, reason = _degenerate(P)

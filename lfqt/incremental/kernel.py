@@ -668,8 +668,9 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
 
 @njit(cache=True)
 def finite_cells(C, N, alive, ids):
-    """(simplices, neighbors) of the live finite cells, vertices mapped
-    through ``ids``, neighbours renumbered, -1 across the hull.  A cell's
+    """(simplices, neighbors, infinite) of the live cells: the finite ones
+    with vertices mapped through ``ids``, neighbours renumbered, -1 across
+    the hull, and the ids of the infinite ones (for hull_facets).  A cell's
     new id is its rank in a bitmap of the finite cells (lfqt.indexing.rank):
     the neighbours point anywhere in C, and a bit per cell plus a count per
     64 stay in cache where an id per cell would not."""
@@ -679,10 +680,12 @@ def finite_cells(C, N, alive, ids):
     bits = np.empty(nwords, dtype=np.uint64)
     first = np.empty(nwords, dtype=np.int64)
     k = 0
+    live = 0
     for w in range(nwords):
         word = np.uint64(0)
         for c in range(64 * w, min(64 * w + 64, m)):
             finite = alive[c]
+            live += finite
             for i in range(width):
                 finite &= C[c, i] >= 0
             word |= np.uint64(finite) << np.uint64(c & 63)
@@ -691,35 +694,33 @@ def finite_cells(C, N, alive, ids):
         k += popcount(word)
     simplices = np.empty((k, width), dtype=np.int32)
     neighbors = np.empty((k, width), dtype=np.int32)
+    infinite = np.empty(live - k, dtype=np.int64)
     j = 0
+    n_inf = 0
     for c in range(m):
         if not bit(bits, c):
+            if alive[c]:
+                infinite[u(n_inf)] = c
+                n_inf += 1
             continue
         for i in range(width):
             simplices[j, i] = ids[C[c, i]]
             nb = N[c, i]
             neighbors[j, i] = rank(bits, first, nb) if bit(bits, nb) else -1
         j += 1
-    return simplices, neighbors
+    return simplices, neighbors, infinite
 
 
 @njit(cache=True)
-def hull_facets(C, alive, ids):
+def hull_facets(C, infinite, ids):
     """Hull facets (2D: edges as a counter-clockwise loop is built by the
-    caller) of the live infinite cells, oriented outward."""
-    m = C.shape[0]
+    caller) of the infinite cells ``infinite`` (finite_cells'), oriented
+    outward."""
     width = C.shape[1]
-    out = np.empty((m, width - 1), dtype=np.int64)
-    k = 0
-    for c in range(m):
-        if not alive[c]:
-            continue
-        f = -1
-        for i in range(width):
-            if C[c, i] < 0:
-                f = i
-        if f < 0:
-            continue
+    out = np.empty((infinite.shape[0], width - 1), dtype=np.int64)
+    for k in range(infinite.shape[0]):
+        c = infinite[k]
+        f = _infinite_slot(C, width, c)
         # the infinite cell with INF -> beyond-point is positive: its facet,
         # in cyclic order after f, faces outward
         for j in range(width - 1):
@@ -729,5 +730,4 @@ def hull_facets(C, alive, ids):
             t = out[k, 0]
             out[k, 0] = out[k, 1]
             out[k, 1] = t
-        k += 1
-    return out[:k]
+    return out
