@@ -1,6 +1,7 @@
 """What a result records about the machine it was measured on: CPU model,
 caches, cores, memory, transparent huge pages, library versions and the
 commit."""
+import hashlib
 import os
 import platform
 import subprocess
@@ -32,7 +33,32 @@ def machine_info():
                                         cwd=Path(__file__).parent).stdout.strip()
     except OSError:
         pass
+    info["code"] = code_version()
     return info
+
+
+# what a measurement depends on, for code_version's uncommitted changes
+CODE_PATHS = ("lfqt", "drivers", "generators", "experiments", "setup.sh", "pyproject.toml")
+
+
+def code_version():
+    """The commit, with a hash of the uncommitted changes to the measured
+    code (CODE_PATHS) when there are any: the runner measures again a cell
+    measured on other code.  None outside a git checkout."""
+    root = Path(__file__).resolve().parent.parent
+    try:
+        head = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                              cwd=root)
+        diff = subprocess.run(["git", "diff", "HEAD", "--", *CODE_PATHS], capture_output=True,
+                              cwd=root)
+    except OSError:
+        return None
+    if head.returncode != 0 or diff.returncode != 0:
+        return None
+    commit = head.stdout.strip()
+    if diff.stdout:
+        return f"{commit}+{hashlib.sha1(diff.stdout).hexdigest()[:12]}"
+    return commit
 
 
 def cpu_details():

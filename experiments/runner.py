@@ -24,7 +24,7 @@ import drivers
 import generators
 
 from . import results
-from .machine import available_memory, machine_info
+from .machine import available_memory, code_version, machine_info
 
 
 @dataclass(frozen=True)
@@ -94,9 +94,15 @@ def peer_builds(names):
     return out
 
 
-def _done(log):
-    """{cell key: record} of a log; a line cut by a crash is measured again."""
-    return results.read_log(log, lambda rec: Cell.from_record(rec["cell"]).key)
+def _done(log, code):
+    """({cell key: record}, stale count) of a log: the cells measured on
+    ``code`` (machine.code_version); a line cut by a crash, and a cell
+    measured on other code (a later commit, uncommitted changes), are
+    measured again.  Without this a sweep resumed after an update would mix
+    old times under new metadata."""
+    done = results.read_log(log, lambda rec: Cell.from_record(rec["cell"]).key)
+    fresh = {k: rec for k, rec in done.items() if rec.get("code") == code}
+    return fresh, len(done) - len(fresh)
 
 
 def _progress(experiment, total):
@@ -126,15 +132,20 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     log = out_dir / "cells.jsonl"
     if force and log.exists():
         log.unlink()
-    done = _done(log)
+    code = code_version()
+    done, stale = _done(log, code)
+    if stale and progress:
+        print(f"[{experiment}] {stale} finished cells were measured on other code than "
+              f"{code or 'this checkout'}: measuring them again", file=sys.stderr)
     todo = [c for c in cells if c.key not in done]
     meta = dict(experiment=experiment, command=command or " ".join(sys.argv),
                 date=time.strftime("%Y-%m-%d %H:%M:%S %z"), repeats=repeats, rounds=rounds,
-                cells=len(cells), resumed_cells=len(cells) - len(todo), **(extra_metadata or {}),
+                cells=len(cells), resumed_cells=len(cells) - len(todo), stale_cells=stale,
+                **(extra_metadata or {}),
                 peers=peer_builds({c.peer for c in cells}),
                 distributions={d: generators.definition(d)
                                for d in sorted({c.distribution for c in cells})},
-                **machine_info())
+                **dict(machine_info(), code=code))
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = _progress(experiment, len(todo)) if progress and todo else None
     with open(log, "a+") as f:
@@ -144,7 +155,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
             reason = known_failure(cell) if known_failure else None
             outcome = ({"status": "skipped", "detail": reason} if reason else
                        measure_cell(cell, 1 if cell.count else repeats, timeout))
-            rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome}
+            rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome, "code": code}
             results.append_log(f, rec)
             done[cell.key] = rec
             if bar:

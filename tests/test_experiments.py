@@ -56,6 +56,25 @@ def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
     assert meta["resumed_cells"] == 2
 
 
+def test_cells_measured_on_other_code_are_measured_again(tmp_path, monkeypatch):
+    cells = [Cell("lfqt-dc", "uniform", 2000), Cell("triangle", "uniform", 2000)]
+    d = runner.run("t", cells, repeats=1, out=tmp_path, progress=False)
+    first = [json.loads(l) for l in (d / "cells.jsonl").read_text().splitlines()]
+    assert all(r["code"] == runner.code_version() for r in first)
+    runner.run("t", cells, repeats=1, out=tmp_path, progress=False)  # same code: resumed
+    assert len((d / "cells.jsonl").read_text().splitlines()) == 2
+    monkeypatch.setattr(runner, "code_version", lambda: "0" * 40 + "+changed")
+    runner.run("t", cells, repeats=1, out=tmp_path, progress=False)
+    log = [json.loads(l) for l in (d / "cells.jsonl").read_text().splitlines()]
+    assert [r["code"] for r in log[2:]] == ["0" * 40 + "+changed"] * 2
+    meta = json.loads((d / "metadata.json").read_text())
+    assert meta["resumed_cells"] == 0 and meta["stale_cells"] == 2
+    assert meta["code"] == "0" * 40 + "+changed"
+    rows = load_rows(d)
+    assert len(rows) == 2 and {r["seconds"] for r in rows}.isdisjoint(
+        {r["outcome"]["seconds"][0] for r in first})
+
+
 def test_failures_are_rows_with_their_reason(tmp_path, monkeypatch):
     from drivers import cgal
     monkeypatch.setattr(cgal, "CGAL_BINARY", tmp_path / "no-driver")
