@@ -67,11 +67,11 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     # space, so the cells and coordinates a walk touches are close in memory
     # whatever the insertion order (the Kd order jumps across space at every
     # level).
-    at, hint_at, rank = kernel.relabel(perm, hints, store)
+    at, hint_at = kernel.relabel(perm, hints, store)
     # np.take gathers rows in a fifth of fancy indexing's time (1M points)
     C, N, alive, ncells, dup_rank, cnt, ok = kernel.insert_all(
         np.take(P, store, axis=0), d, at, hint_at, span, timing=phase_times)
-    dup_of = store[dup_rank[rank]]
+    dup_of = kernel.duplicate_of(store, dup_rank)
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
