@@ -298,49 +298,47 @@ def _kdtree_inorder(X, ids, alternate):
 
 @njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
-    """(perm, hint, inorder): the breadth-first labels and their hints, and
-    the ids as the median selections leave them (_kdtree_inorder), the
-    tree's in-order: every subtree a contiguous range with its median in
-    the middle::
+    """(perm, hint, inorder, P[inorder]): the breadth-first labels and
+    their hints, the ids as the median selections leave them
+    (_kdtree_inorder), the tree's in-order: every subtree a contiguous range
+    with its median in the middle::
 
         inorder   [ left subtree | median | right subtree ]
                     [ l | m | r ]            [ l | m | r ]
-    """
+
+    and the rows of P in that order, as the selections leave them too."""
     n, d = P.shape
     ids = np.arange(n)
     X = P.copy()
     _kdtree_inorder(X, ids, alternate)
     perm = np.empty(n, dtype=np.int64)
     hint = np.empty(n, dtype=np.int64)
-    # breadth-first queue of (lo, hi, parent point, left sibling's slot)
+    # Breadth-first queue of ranges; a node's label is its queue slot.  Its
+    # point, and its left sibling's, are medians of known ranges of the
+    # in-order, so a child's hint is written when it is queued.
     q_lo = np.empty(n, dtype=np.int64)
     q_hi = np.empty(n, dtype=np.int64)
-    q_parent = np.empty(n, dtype=np.int64)
-    q_sib = np.empty(n, dtype=np.int64)
     head = 0
     tail = 0
     if n:
-        q_lo[0], q_hi[0], q_parent[0], q_sib[0] = 0, n, -1, -1
+        q_lo[0], q_hi[0], hint[0] = 0, n, -1
         tail = 1
     while head < tail:
-        lo, hi, parent = q_lo[head], q_hi[head], q_parent[head]
-        # a node's label is its queue slot, so the left sibling (the slot
-        # before) is already labelled when its right sibling comes up
-        sib = perm[q_sib[head]] if q_sib[head] >= 0 else -1
+        lo, hi = q_lo[head], q_hi[head]
         m = lo + (hi - lo) // 2
         v = ids[m]
         perm[head] = v
-        hint[head] = sib if (sibling and sib >= 0) else parent
-        left_slot = -1
+        left = -1  # the left child's point
         if m > lo:
-            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail] = lo, m, v, -1
-            left_slot = tail
+            q_lo[tail], q_hi[tail], hint[tail] = lo, m, v
+            left = ids[lo + (m - lo) // 2]
             tail += 1
         if hi > m + 1:
-            q_lo[tail], q_hi[tail], q_parent[tail], q_sib[tail] = m + 1, hi, v, left_slot
+            q_lo[tail], q_hi[tail] = m + 1, hi
+            hint[tail] = left if (sibling and left >= 0) else v
             tail += 1
         head += 1
-    return perm, hint, ids
+    return perm, hint, ids, X
 
 
 @njit(cache=True, inline="always")
@@ -534,27 +532,31 @@ def _previous_as_hint(perm):
 
 def order(points, name="kdtree", *, hint="parent", seed=0):
     """(perm, hint) for inserting ``points`` (n, d) in order ``name``."""
-    perm, h, _ = _order(points, name, hint, seed)
-    return perm, h
+    return _order(points, name, hint, seed)[:2]
 
 
 def layout(points, name="kdtree", *, hint="parent", seed=0):
-    """(perm, hint, store): ``order``'s pair, and ``store``, a permutation of
-    the points along space to lay them out in memory by (the Kd-tree's
-    in-order, the Hilbert order itself, or a coarse Hilbert sort)."""
+    """(perm, hint, store, stored): ``order``'s pair, ``store``, a
+    permutation of the points along space to lay them out in memory by (the
+    Kd-tree's in-order, the Hilbert order itself, or a coarse Hilbert sort),
+    and ``stored``, the points (float64 rows) in that order, which the Kd
+    orders leave behind for free."""
     P = np.ascontiguousarray(points, dtype=np.float64)  # once: _order's is then free
-    perm, h, store = _order(P, name, hint, seed)
+    perm, h, store, stored = _order(P, name, hint, seed)
     if store is None:
         # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine
         # enough for locality, and cheaper to index than 31/21 bits.
         bits = 16 if P.shape[1] == 2 else 10
         store = (sorted_by_key(hilbert_keys(P, np.arange(len(P)), bits)) if len(P)
                  else np.arange(0))
-    return perm, h, store
+    if stored is None:
+        stored = np.take(P, store, axis=0)  # a fifth of fancy indexing's time (1M rows)
+    return perm, h, store, stored
 
 
 def _order(points, name, hint, seed):
-    """(perm, hint, store or None when the order gives none for free)."""
+    """(perm, hint, store, stored), the last two None when the order does
+    not give them for free (layout)."""
     P = np.ascontiguousarray(points, dtype=np.float64)
     n = len(P)
     if P.ndim != 2 or P.shape[1] not in (2, 3):
@@ -583,4 +585,4 @@ def _order(points, name, hint, seed):
         cuts.append(0)
         rounds = [shuffled[cuts[i + 1]:cuts[i]] for i in range(len(cuts) - 1)][::-1]
         perm = np.concatenate([_hilbert_sorted(P, r) for r in rounds]) if n else shuffled
-    return perm, _previous_as_hint(perm), store
+    return perm, _previous_as_hint(perm), store, None

@@ -28,8 +28,9 @@ def test_kdtree_matches_the_papers_15_point_example():
 def test_kdtree_layout_is_the_trees_in_order():
     # the 15-point line: in-order of the median tree is the line itself
     pts = np.c_[np.arange(1, 16, dtype=float), np.zeros(15)][::-1]
-    perm, hint, store = orders.layout(pts, "kdtree")
+    perm, hint, store, stored = orders.layout(pts, "kdtree")
     assert np.array_equal(pts[store, 0], np.arange(1, 16))
+    assert np.array_equal(stored, pts[store])
     assert np.array_equal((perm, hint), orders.order(pts, "kdtree"))
 
 
@@ -42,7 +43,8 @@ def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rn
            "sorted": np.sort(rng.random((n, d)), axis=0),
            "two values": rng.integers(0, 2, (n, d)).astype(float),
            "organ pipe": np.c_[pipe, rng.random((n, d - 1)) * 1e-3]}[kind]
-    perm, hint, store = orders.layout(pts, "kdtree")
+    perm, hint, store, stored = orders.layout(pts, "kdtree")
+    assert np.array_equal(stored, pts[store])  # the selections' rows, left in order
     labels = []
     queue = [(0, n, -1)]
     for lo, hi, parent in queue:  # breadth first over the implicit ranges
@@ -90,8 +92,9 @@ def test_selection_past_its_pivot_budget_is_still_nth_element(n, k, kind, budget
 @pytest.mark.parametrize("name", orders.ORDERS)
 def test_layouts_are_permutations_along_space(name, d, rng):
     pts = rng.random((4096, d))
-    perm, hint, store = orders.layout(pts, name)
+    perm, hint, store, stored = orders.layout(pts, name)
     assert np.array_equal((perm, hint), orders.order(pts, name))
+    assert np.array_equal(stored, pts[store]) and stored.flags.c_contiguous
     assert sorted(store.tolist()) == list(range(4096))
     if name == "hilbert":
         assert np.array_equal(store, perm)

@@ -60,17 +60,16 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
         raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
                          f"got {n}; lfqt.triangulate has no such limit in 2D")
     t1 = time.perf_counter()
-    perm, hints, order_name, store = _order(P, order, hint, seed)
+    perm, hints, order_name, store, stored = _order(P, order, hint, seed)
     t2 = time.perf_counter()
     span = kernel.coordinate_span(P)
     # Store the points along space (orders.layout): vertex ids then follow
     # space, so the cells and coordinates a walk touches are close in memory
     # whatever the insertion order (the Kd order jumps across space at every
     # level).
-    at, hint_at = kernel.relabel(perm, hints, store)
-    # np.take gathers rows in a fifth of fancy indexing's time (1M points)
+    kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
     C, N, alive, ncells, dup_rank, cnt, ok = kernel.insert_all(
-        np.take(P, store, axis=0), d, at, hint_at, span, timing=phase_times)
+        stored, d, perm, hints, span, timing=phase_times)
     dup_of = kernel.duplicate_of(store, dup_rank)
     t3 = time.perf_counter()
     degenerate, reason = False, ""
@@ -106,18 +105,20 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
 
 
 def _order(P, order, hint, seed):
-    """(perm, hints, name, store) of the insertion order and the points'
-    layout in memory (lfqt.orders.layout)."""
+    """(perm, hints, name, store, stored) of the insertion order and the
+    points' layout in memory (lfqt.orders.layout)."""
     n = len(P)
     if isinstance(order, tuple):
-        perm, hints = (np.asarray(a, dtype=np.int64) for a in order)
+        perm, hints = (np.array(a, dtype=np.int64) for a in order)  # copies: relabelled in place
         if (sorted(perm.tolist()) != list(range(n)) or len(hints) != n
                 or np.any((hints < -1) | (hints >= n))):
             raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
                              "range(n) and one hint per point, a point index or -1")
-        return perm, hints, "explicit", orders.layout(P, "input")[2]
-    perm, hints, store = orders.layout(P, order, hint=hint or "parent", seed=seed)
-    return perm, hints, order, store
+        return (perm, hints, "explicit", *orders.layout(P, "input")[2:])
+    perm, hints, store, stored = orders.layout(P, order, hint=hint or "parent", seed=seed)
+    if np.shares_memory(perm, store):  # "hilbert": the order is its own layout
+        perm = perm.copy()
+    return perm, hints, order, store, stored
 
 
 def _first_of_duplicates(simplices, hull, dup_of):
