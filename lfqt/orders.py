@@ -117,6 +117,17 @@ def _split(X, ids, lo, hi, p, axis, off):
     return at
 
 
+@njit(cache=True, inline="always")
+def _narrowed(k, at, lo, hi):
+    """The part of [lo, hi) that holds rank k after a round that put its
+    pivot at ``at``: [k, k + 1), one row, when that is k."""
+    if k < at:
+        return lo, at
+    if k > at:
+        return at + 1, hi
+    return k, k + 1
+
+
 @njit(cache=True)
 def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
     """Partition rows [lo, hi) of X (coordinates, kept in step with ids) by
@@ -138,12 +149,7 @@ def _select_axis(X, ids, lo, hi, k, axis, off, budget=-1):
     while hi - lo >= _SAMPLED and budget > 0:
         budget -= 1
         at = _split(X, ids, lo, hi, _sampled_pivot(X, ids, lo, hi, k, axis, off), axis, off)
-        if k < at:
-            hi = at
-        elif k > at:
-            lo = at + 1
-        else:
-            return
+        lo, hi = _narrowed(k, at, lo, hi)
     _select_short(X, ids, lo, hi, k, axis, off, budget)
 
 
@@ -158,13 +164,7 @@ def _select_short(X, ids, lo, hi, k, axis, off, budget):
             state, p = random_index(state, lo, hi)
         else:
             p = _median_of_three(X, lo, hi, axis)
-        at = _split(X, ids, lo, hi, p, axis, off)
-        if k < at:
-            hi = at
-        elif k > at:
-            lo = at + 1
-        else:
-            return
+        lo, hi = _narrowed(k, _split(X, ids, lo, hi, p, axis, off), lo, hi)
 
 
 @njit(cache=True, inline="always")
