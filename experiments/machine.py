@@ -28,12 +28,9 @@ def machine_info():
         except metadata.PackageNotFoundError:  # not installed: not listed
             pass
     info["versions"] = versions
-    try:
-        info["commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                                        cwd=Path(__file__).parent).stdout.strip()
-    except OSError:
-        pass
     info["code"] = code_version()
+    if info["code"]:
+        info["commit"] = info["code"].split("+")[0]
     return info
 
 

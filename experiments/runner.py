@@ -24,7 +24,7 @@ import drivers
 import generators
 
 from . import results
-from .machine import available_memory, code_version, machine_info
+from .machine import available_memory, machine_info
 
 
 @dataclass(frozen=True)
@@ -132,7 +132,8 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     log = out_dir / "cells.jsonl"
     if force and log.exists():
         log.unlink()
-    code = code_version()
+    machine = machine_info()
+    code = machine["code"]
     done, stale = _done(log, code)
     if stale and progress:
         print(f"[{experiment}] {stale} finished cells were measured on other code than "
@@ -145,7 +146,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
                 peers=peer_builds({c.peer for c in cells}),
                 distributions={d: generators.definition(d)
                                for d in sorted({c.distribution for c in cells})},
-                **dict(machine_info(), code=code))
+                **machine)
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     bar = _progress(experiment, len(todo)) if progress and todo else None
     with open(log, "a+") as f:

@@ -2,7 +2,7 @@
 import json
 import os
 
-from experiments import bench_dc, results, runner
+from experiments import bench_dc, machine, results, runner
 from experiments.runner import Cell
 
 
@@ -60,10 +60,10 @@ def test_cells_measured_on_other_code_are_measured_again(tmp_path, monkeypatch):
     cells = [Cell("lfqt-dc", "uniform", 2000), Cell("triangle", "uniform", 2000)]
     d = runner.run("t", cells, repeats=1, out=tmp_path, progress=False)
     first = [json.loads(l) for l in (d / "cells.jsonl").read_text().splitlines()]
-    assert all(r["code"] == runner.code_version() for r in first)
+    assert all(r["code"] == machine.code_version() for r in first)
     runner.run("t", cells, repeats=1, out=tmp_path, progress=False)  # same code: resumed
     assert len((d / "cells.jsonl").read_text().splitlines()) == 2
-    monkeypatch.setattr(runner, "code_version", lambda: "0" * 40 + "+changed")
+    monkeypatch.setattr(machine, "code_version", lambda: "0" * 40 + "+changed")
     runner.run("t", cells, repeats=1, out=tmp_path, progress=False)
     log = [json.loads(l) for l in (d / "cells.jsonl").read_text().splitlines()]
     assert [r["code"] for r in log[2:]] == ["0" * 40 + "+changed"] * 2
