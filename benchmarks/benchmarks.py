@@ -46,25 +46,25 @@ class TimeTriangulate:
 
 
 class TimeInsert:
-    params = (["kdtree", "hilbert", "brio"], ["cube", "axes"])
-    param_names = ["order", "distribution"]
+    params = (["kdtree", "hilbert", "brio"], ["cube", "axes"], [50_000])
+    param_names = ["order", "distribution", "n"]
     timeout = 300
 
-    def setup(self, order, dist):
-        self.points = np.array(generators.make(dist, 50_000))
+    def setup(self, order, dist, n):
+        self.points = np.array(generators.make(dist, n))
         lfqt.insert(self.points[:500], order=order)
 
-    def time_insert(self, order, dist):
+    def time_insert(self, order, dist, n):
         lfqt.insert(self.points, order=order)
 
-    def peakmem_insert(self, order, dist):
+    def peakmem_insert(self, order, dist, n):
         lfqt.insert(self.points, order=order)
 
-    def track_orientation_tests_per_point(self, order, dist):
+    def track_orientation_tests_per_point(self, order, dist, n):
         return lfqt.insert(self.points, order=order).stats["per_point"]["orientation_tests"]
     track_orientation_tests_per_point.unit = "count"
 
-    def track_conflicts_per_point(self, order, dist):
+    def track_conflicts_per_point(self, order, dist, n):
         return lfqt.insert(self.points, order=order).stats["per_point"]["conflicts"]
     track_conflicts_per_point.unit = "count"
 
