@@ -303,7 +303,6 @@ def _kdtree_inorder(X, ids, alternate):
             top += 1
 
 
-@njit(cache=True, nogil=True)
 def kdtree_order(P, alternate, sibling):
     """(perm, hint, inorder, P[inorder]): the breadth-first labels and
     their hints, the ids as the median selections leave them
@@ -313,18 +312,23 @@ def kdtree_order(P, alternate, sibling):
         inorder   [ left subtree | median | right subtree ]
                     [ l | m | r ]            [ l | m | r ]
 
-    and the rows of P in that order, as the selections leave them too."""
-    n, d = P.shape
-    ids = np.arange(n)
-    X = P.copy()
+    and the rows of P in that order, as the selections leave them too.
+    numpy allocates the arrays (on huge pages: see
+    lfqt.incremental.kernel.insert_all)."""
+    n = len(P)
+    ids, X = np.arange(n), P.copy()
+    perm, hint, q_lo, q_hi = (np.empty(n, dtype=np.int64) for _ in range(4))
+    _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling)
+    return perm, hint, ids, X
+
+
+@njit(cache=True, nogil=True)
+def _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling):
+    n = X.shape[0]
     _kdtree_inorder(X, ids, alternate)
-    perm = np.empty(n, dtype=np.int64)
-    hint = np.empty(n, dtype=np.int64)
     # Breadth-first queue of ranges; a node's label is its queue slot.  Its
     # point, and its left sibling's, are medians of known ranges of the
     # in-order, so a child's hint is written when it is queued.
-    q_lo = np.empty(n, dtype=np.int64)
-    q_hi = np.empty(n, dtype=np.int64)
     head = 0
     tail = 0
     if n:
@@ -345,7 +349,6 @@ def kdtree_order(P, alternate, sibling):
             hint[tail] = left if (sibling and left >= 0) else v
             tail += 1
         head += 1
-    return perm, hint, ids, X
 
 
 @njit(cache=True, inline="always")

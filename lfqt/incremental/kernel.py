@@ -514,22 +514,15 @@ def _insert_range_3d(P, perm, hint, span, static, pick, t0, cells, scratch, stat
 
 
 @njit(cache=True)
-def _records(cap, width):
-    """Storage for ``cap`` cells, one record of int32 per cell, so that a
-    visit to a cell reads one or two cache lines, not one per array:
+def _records(R, width):
+    """C, N and mark: views of the records R, one row of int32 per cell, so
+    that a visit to a cell reads one or two cache lines, not one per array:
 
         cell c:  | v0 v1 v2 v3 | n0 n1 n2 n3 | mark |     (2D: 3 + 3 + 1)
                    C[c]          N[c]          mark[c]
 
     Rows are written when their cell is made (_new_cell, _start)."""
-    R = np.empty((cap, 2 * width + 1), dtype=np.int32)
     return R[:, :width], R[:, width:2 * width], R[:, 2 * width]
-
-
-@njit(cache=True)
-def _new_cells(cap, width, n):
-    C, N, mark = _records(cap, width)
-    return Cells(C, N, mark, np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
 
 
 @njit(cache=True)
@@ -537,7 +530,7 @@ def _grown(cells, size):
     """The cell storage at ``size`` cells (vcell is per point: kept)."""
     C, N, mark, vcell, free = cells
     m = C.shape[0]
-    C2, N2, mark2 = _records(size, C.shape[1])
+    C2, N2, mark2 = _records(np.empty((size, 2 * C.shape[1] + 1), dtype=np.int32), C.shape[1])
     C2[:m] = C
     N2[:m] = N
     mark2[:m] = mark
@@ -598,30 +591,35 @@ def _start(P, d, s, cells):
     return ncells
 
 
-@njit(cache=True)
 def relabel(perm, hint, store):
     """Renumber perm and hint, in place, by the points' places in ``store``
     (rank[store[k]] = k), the numbering insert_all's points come in; a hint
     of -1 stays -1.  One pass each, where numpy's scatter, gathers and
     where took 12 ns per point (1M), and no new arrays but the ranks."""
-    n = store.shape[0]
-    rank = np.empty(n, dtype=np.int64)
-    for k in range(n):
+    _relabel(perm, hint, store, np.empty(len(store), dtype=np.int64))
+
+
+@njit(cache=True)
+def _relabel(perm, hint, store, rank):
+    for k in range(store.shape[0]):
         rank[u(store[k])] = k
-    for k in range(n):
+    for k in range(store.shape[0]):
         perm[k] = rank[u(perm[k])]
         hint[k] = rank[u(hint[k])] if hint[k] >= 0 else -1
 
 
-@njit(cache=True)
 def duplicate_of(store, dup_rank):
     """insert_all's duplicates, numbered by storage rank (dup_rank), in
     input indices: dup_of[store[k]] = store[dup_rank[k]]."""
-    n = store.shape[0]
-    dup_of = np.empty(n, dtype=np.int64)
-    for k in range(n):
-        dup_of[u(store[k])] = store[u(dup_rank[k])]
+    dup_of = np.empty(len(store), dtype=np.int64)
+    _duplicate_of(store, dup_rank, dup_of)
     return dup_of
+
+
+@njit(cache=True)
+def _duplicate_of(store, dup_rank, dup_of):
+    for k in range(store.shape[0]):
+        dup_of[u(store[k])] = store[u(dup_rank[k])]
 
 
 def coordinate_span(P):
@@ -630,20 +628,33 @@ def coordinate_span(P):
     return float(np.abs(P).max(initial=1.0)) or 1.0
 
 
-@njit(cache=True, nogil=True)
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
     """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
     counts, ok).  ok is False when the points span fewer than d dimensions.
     Raises ValueError when the triangulation needs more than ``max_cells``
     cells (a 3D Delaunay triangulation may have quadratically many).
-    ``timing``: count the cycles of the walks and of the cavities (counts'
-    LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter per
-    point, 34 ns in all on a VM whose counter costs 11 ns)."""
+    ``capacity``: the cells to start with (CELLS_PER_POINT per point by
+    default).  ``timing``: count the cycles of the walks and of the cavities
+    (counts' LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter
+    per point, 34 ns in all on a VM whose counter costs 11 ns).
+
+    The arrays of a size in points or cells come from numpy, here, not from
+    the kernel: numpy asks Linux for transparent huge pages for them, where
+    numba's allocations fault in 4 KB at a time (14k faults, 35 ms, for the
+    cells of 1M points in 2D, on every call)."""
     n = P.shape[0]
+    cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
+    cells = Cells(*_records(np.empty((cap, 2 * d + 3), dtype=np.int32), d + 1),
+                  np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
+    return _insert_all(P, d, perm, hint, span, cells, np.arange(n), max_cells, timing)
+
+
+@njit(cache=True, nogil=True)
+def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
+    """insert_all's kernel, into ``cells`` (growing them when full); dup_of
+    starts as the identity."""
     counts = np.zeros(N_INSERT, dtype=np.int64)
-    dup_of = np.arange(n)
     width = d + 1
-    cells = _new_cells(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), width, n)
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
         return cells.C[:0], cells.N[:0], cells.mark[:0] != DEAD, 0, dup_of, counts, False
@@ -674,7 +685,6 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     return cells.C[:m], cells.N[:m], cells.mark[:m] != DEAD, m, dup_of, counts, True
 
 
-@njit(cache=True)
 def finite_cells(C, N, alive, ids):
     """(simplices, neighbors, infinite) of the live cells: the finite ones
     with vertices mapped through ``ids``, neighbours renumbered, -1 across
@@ -682,6 +692,19 @@ def finite_cells(C, N, alive, ids):
     new id is its rank in a bitmap of the finite cells (lfqt.indexing.rank):
     the neighbours point anywhere in C, and a bit per cell plus a count per
     64 stay in cache where an id per cell would not."""
+    bits, first, finite, live = _finite_bitmap(C, alive)
+    width = C.shape[1]
+    simplices = np.empty((finite, width), dtype=np.int32)
+    neighbors = np.empty((finite, width), dtype=np.int32)
+    infinite = np.empty(live - finite, dtype=np.int64)
+    _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite)
+    return simplices, neighbors, infinite
+
+
+@njit(cache=True)
+def _finite_bitmap(C, alive):
+    """(bits, first, finite, live): a bit per cell, set for the live finite
+    ones, the finite cells before each word of 64, and the counts."""
     m = C.shape[0]
     width = C.shape[1]
     nwords = (m + 63) >> 6
@@ -700,12 +723,15 @@ def finite_cells(C, N, alive, ids):
         bits[w] = word
         first[w] = k
         k += popcount(word)
-    simplices = np.empty((k, width), dtype=np.int32)
-    neighbors = np.empty((k, width), dtype=np.int32)
-    infinite = np.empty(live - k, dtype=np.int64)
+    return bits, first, k, live
+
+
+@njit(cache=True)
+def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite):
+    width = C.shape[1]
     j = 0
     n_inf = 0
-    for c in range(m):
+    for c in range(C.shape[0]):
         if not bit(bits, c):
             if alive[c]:
                 infinite[u(n_inf)] = c
@@ -716,7 +742,6 @@ def finite_cells(C, N, alive, ids):
             nb = N[c, i]
             neighbors[j, i] = rank(bits, first, nb) if bit(bits, nb) else -1
         j += 1
-    return simplices, neighbors, infinite
 
 
 @njit(cache=True)
