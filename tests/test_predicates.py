@@ -534,3 +534,35 @@ def test_static_bounds_are_off_where_they_would_leave_the_normal_range():
     assert np.isfinite(o) and i == np.inf
     o, i = P.static_bounds(1.0, 1.0, P.CCW_A, P.ICC_A)
     assert o == pytest.approx(2 * P.CCW_A) and i == pytest.approx(12 * P.ICC_A)
+
+
+def test_raw_subnormal_products_underflow_which_is_why_the_window_exists():
+    """The predicates' precondition (lfqt.predicates): coordinates inside
+    the exactness window.  Raw, a product of two subnormals underflows to
+    zero with no error term, and a left turn reads as collinear."""
+    t = 5e-324
+    assert orient_ref((0.0, 0.0), (t, 0.0), (0.0, t)) == 1
+    assert P.orient2d_exact(0.0, 0.0, t, 0.0, 0.0, t) == 0.0
+    (ax, ay), (bx, by), (cx, cy) = in_window((0.0, 0.0), (t, 0.0), (0.0, t))
+    assert P.orient2d_exact(ax, ay, bx, by, cx, cy) == 1.0
+
+
+tiny_ints = st.tuples(st.integers(-8, 8), st.integers(-8, 8), st.integers(-8, 8))
+
+
+@given(st.lists(tiny_ints, min_size=5, max_size=5), st.integers(-1074, -1010))
+def test_subnormal_sets_are_exact_once_in_the_window(ints, e):
+    """Small-integer points scaled into the subnormal range: once the API's
+    rescale has put them in the window, every predicate's sign is the
+    Fractions' (2D on the first two coordinates)."""
+    pts = [tuple(math.ldexp(v, e) for v in p) for p in ints]
+    flat = [p[:2] for p in pts]
+    a, b, c, d = in_window(*flat[:4])
+    assert sign(P.orient2d_exact(*a, *b, *c)) == orient_ref(*flat[:3])
+    assert sign(P.incircle_exact(*a, *b, *c, *d)) == incircle_ref(*flat[:4])
+    try:
+        w = [tuple(map(float, p)) for p in exact_points3(np.array(pts, dtype=np.float64))]
+    except ValueError:  # all zero, or too far apart
+        assume(False)
+    assert sign(P.orient3d_exact(*w[0], *w[1], *w[2], *w[3])) == orient3d_ref(*pts[:4])
+    assert sign(P.insphere_exact(*w[0], *w[1], *w[2], *w[3], *w[4])) == insphere_ref(*pts)
