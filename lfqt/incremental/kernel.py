@@ -527,7 +527,9 @@ def _records(R, width):
 
 @njit(cache=True)
 def _grown(cells, size):
-    """The cell storage at ``size`` cells (vcell is per point: kept)."""
+    """The cell storage at ``size`` cells (vcell is per point: kept).  In
+    the kernel, on 4 KB pages (insert_all): growth is rare, since the
+    storage starts at CELLS_PER_POINT cells per point."""
     C, N, mark, vcell, free = cells
     m = C.shape[0]
     C2, N2, mark2 = _records(np.empty((size, 2 * C.shape[1] + 1), dtype=np.int32), C.shape[1])
