@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
+from ._input import index_dtype
 from .indexing import random_index, range_seed, u
 from .radix import radix_sort_range
 
@@ -211,7 +212,7 @@ def _sampled_pivot(X, ids, lo, hi, k, axis, off):
     s = np.int64(np.sqrt(size))
     step = size // s
     sample = np.empty((s, 2))
-    sample_ids = np.empty(s, dtype=np.int64)
+    sample_ids = np.empty(s, dtype=ids.dtype)
     for j in range(s):
         row = lo + j * step + (step >> 1)
         sample[j, 0] = X[u(row), axis]
@@ -316,7 +317,7 @@ def kdtree_order(P, alternate, sibling):
     numpy allocates the arrays (on huge pages: see
     lfqt.incremental.kernel.insert_all)."""
     n = len(P)
-    ids, X = np.arange(n), P.copy()
+    ids, X = np.arange(n, dtype=index_dtype(n)), P.copy()
     perm, hint, q_lo, q_hi = (np.empty(n, dtype=np.int64) for _ in range(4))
     _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling)
     return perm, hint, ids, X
@@ -550,7 +551,10 @@ def layout(points, name="kdtree", *, hint="parent", seed=0):
     permutation of the points along space to lay them out in memory by (the
     Kd-tree's in-order, the Hilbert order itself, or a coarse Hilbert sort),
     and ``stored``, the points (float64 rows) in that order, which the Kd
-    orders leave behind for free."""
+    orders leave behind for free.  ``store`` is int32 below 2**31 points
+    (index_dtype): the output maps every vertex of every cell through it, at
+    random, and half the bytes miss the cache half as often (finite_cells at
+    1M 2D: 33 -> 25 ms)."""
     P = np.ascontiguousarray(points, dtype=np.float64)  # once: _order's is then free
     perm, h, store, stored = _order(P, name, hint, seed)
     if store is None:
@@ -561,7 +565,7 @@ def layout(points, name="kdtree", *, hint="parent", seed=0):
                  else np.arange(0))
     if stored is None:
         stored = np.take(P, store, axis=0)  # a fifth of fancy indexing's time (1M rows)
-    return perm, h, store, stored
+    return perm, h, store.astype(index_dtype(len(P)), copy=False), stored
 
 
 def _order(points, name, hint, seed):

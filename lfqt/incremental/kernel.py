@@ -598,7 +598,7 @@ def relabel(perm, hint, store):
     (rank[store[k]] = k), the numbering insert_all's points come in; a hint
     of -1 stays -1.  One pass each, where numpy's scatter, gathers and
     where took 12 ns per point (1M), and no new arrays but the ranks."""
-    _relabel(perm, hint, store, np.empty(len(store), dtype=np.int64))
+    _relabel(perm, hint, store, np.empty(len(store), dtype=store.dtype))
 
 
 @njit(cache=True)
