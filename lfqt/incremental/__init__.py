@@ -116,7 +116,9 @@ def _order(P, order, hint, seed):
                              "range(n) and one hint per point, a point index or -1")
         return (perm, hints, "explicit", *orders.layout(P, "input")[2:])
     perm, hints, store, stored = orders.layout(P, order, hint=hint or "parent", seed=seed)
-    if np.shares_memory(perm, store):  # "hilbert": the order is its own layout
+    # "hilbert" is its own layout: store is perm itself where layout keeps it
+    # int64 (2**31 points or more), a copy in int32 below
+    if np.shares_memory(perm, store):
         perm = perm.copy()
     return perm, hints, order, store, stored
 

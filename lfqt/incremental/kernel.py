@@ -526,13 +526,19 @@ def _records(R, width):
 
 
 @njit(cache=True)
+def _record_shape(cap, width):
+    """The shape of the records of ``cap`` cells (_records)."""
+    return cap, 2 * width + 1
+
+
+@njit(cache=True)
 def _grown(cells, size):
     """The cell storage at ``size`` cells (vcell is per point: kept).  In
     the kernel, on 4 KB pages (insert_all): growth is rare, since the
     storage starts at CELLS_PER_POINT cells per point."""
     C, N, mark, vcell, free = cells
     m = C.shape[0]
-    C2, N2, mark2 = _records(np.empty((size, 2 * C.shape[1] + 1), dtype=np.int32), C.shape[1])
+    C2, N2, mark2 = _records(np.empty(_record_shape(size, C.shape[1]), dtype=np.int32), C.shape[1])
     C2[:m] = C
     N2[:m] = N
     mark2[:m] = mark
@@ -646,7 +652,7 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     cells of 1M points in 2D, on every call)."""
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
-    cells = Cells(*_records(np.empty((cap, 2 * d + 3), dtype=np.int32), d + 1),
+    cells = Cells(*_records(np.empty(_record_shape(cap, d + 1), dtype=np.int32), d + 1),
                   np.full(n, -1, dtype=np.int32), np.empty(cap, dtype=np.int32))
     return _insert_all(P, d, perm, hint, span, cells, np.arange(n), max_cells, timing)
 
