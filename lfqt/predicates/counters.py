@@ -46,6 +46,15 @@ def tally(counts, first, stage):
 
 
 @njit(cache=True, inline="always")
+def tally_undecided(counts, first, stage):
+    """The stage counts of ``tally`` alone, for a call that stage 1 left
+    undecided (stage > 0), when the caller counts its calls itself."""
+    counts[first + 1] += 1
+    if stage > 1:
+        counts[first + 2] += 1
+
+
+@njit(cache=True, inline="always")
 def orient2d(ax, ay, bx, by, cx, cy, bound, counts):
     """orient2d_staged, counted in ``counts``."""
     det, stage = orient2d_staged(ax, ay, bx, by, cx, cy, bound)
