@@ -92,6 +92,16 @@ def test_fig5_phases_are_reported():
     assert tri.stats["counts"]["orientation_tests"] == serial.stats["counts"]["orientation_tests"]
 
 
+def test_every_count_is_the_same_on_any_thread_count():
+    # A grid's cocircular quads leave stage 1 undecided: the bins and the top
+    # merges each count those in their own array, the sum must be the serial one.
+    g = np.stack(np.meshgrid(np.arange(150.0), np.arange(140.0)), -1).reshape(-1, 2)
+    serial = triangulate_verified(g, counters=True).stats["counts"]
+    assert serial["incircle_stage1_undecided"] > 0
+    for threads in (2, 5):
+        assert triangulate_verified(g, threads=threads, counters=True).stats["counts"] == serial
+
+
 def test_worker_errors_surface_without_hanging(monkeypatch):
     calls = {"n": 0}
     real = merge.run_ops

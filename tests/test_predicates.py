@@ -354,6 +354,14 @@ def test_counters_count_calls_and_undecided():
     assert cnt[C.ORIENT] == 2 and cnt[C.ORIENT_S1] == 1
 
 
+def test_tally_undecided_counts_the_stages_alone():
+    cnt = P.new_counters()
+    C.tally_undecided(cnt, C.INCIRCLE, 1)
+    C.tally_undecided(cnt, C.INCIRCLE, 2)
+    C.tally_undecided(cnt, C.ORIENT, 1)
+    assert list(cnt[:6]) == [0, 1, 0, 0, 2, 1]  # calls are the caller's to count
+
+
 def _level_of(points, dtype):
     x = np.array([p[0] for p in points], dtype=dtype)
     y = np.array([p[1] for p in points], dtype=dtype)
