@@ -359,6 +359,7 @@ def test_tally_undecided_counts_the_stages_alone():
     C.tally_undecided(cnt, C.INCIRCLE, 1)
     C.tally_undecided(cnt, C.INCIRCLE, 2)
     C.tally_undecided(cnt, C.ORIENT, 1)
+    C.tally_undecided(cnt, C.ORIENT, 0)  # decided by stage 1: not counted here
     assert list(cnt[:6]) == [0, 1, 0, 0, 2, 1]  # calls are the caller's to count
 
 

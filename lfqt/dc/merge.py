@@ -157,18 +157,20 @@ def _union_extremes(P, parts, lt, rt, x_split):
 
 
 @njit(cache=True, inline="always")
-def _walk(T, P, l, r, g, s, ccwb, ccws):
+def _walk(T, P, counts, l, r, g, s, ccwb, ccws):
     """One step of side s's end of the base l -> r toward the lower common
     tangent, g being the ghost at that end (< 0: a lone vertex, no test):
-    (moved, the end, its ghost, the orient test's stage or -1)."""
+    (moved, the end, its ghost, whether it made an orient test; an undecided
+    stage 1 goes to ``counts``)."""
     end = l if s == 0 else r
     if g < 0:
-        return False, end, g, -1
+        return False, end, g, False
     c = T[slot(g, 1 - s)]
     o, st = _orient(P, l, r, c, ccwb, ccws)
+    tally_undecided(counts, ORIENT, st)
     if o < 0.0:
-        return True, c, tri(T[slot(g, 4 + s)]), st
-    return False, end, g, st
+        return True, c, tri(T[slot(g, 4 + s)]), True
+    return False, end, g, True
 
 
 @njit(cache=True, inline="always")
@@ -187,8 +189,7 @@ def _candidate(T, P, counts, A, B, s, lx, ly, rx, ry, ccwb, ccws, iccb, iccs):
         cx, cy = P[u(c), 0], P[u(c), 1]
         o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
         n_o = 1
-        if st > 0:
-            tally_undecided(counts, ORIENT, st)
+        tally_undecided(counts, ORIENT, st)
         ok = o > 0.0
         while ok:  # delete edges to c while the next one is in its circle
             e = T[slot(g, 3)]
@@ -198,8 +199,7 @@ def _candidate(T, P, counts, A, B, s, lx, ly, rx, ry, ccwb, ccws, iccb, iccs):
             xx, xy = P[u(x), 0], P[u(x), 1]
             ic, st = incircle_staged(lx, ly, rx, ry, cx, cy, xx, xy, iccb, iccs)
             n_i += 1
-            if st > 0:  # rare: counted in memory, off the hot path's registers
-                tally_undecided(counts, INCIRCLE, st)
+            tally_undecided(counts, INCIRCLE, st)
             if ic <= 0.0:
                 break
             tt = _flip_ghost(T, g, e, x)
@@ -263,16 +263,12 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
         gr = -1 if single_r else ghost_out[u(r)]
         while True:  # lower common tangent: l walks clockwise, r counter-clockwise
-            moved, l, gl, st = _walk(T, P, l, r, gl, 0, ccwb, ccws)
-            o_calls += st >= 0
-            if st > 0:
-                tally_undecided(counts, ORIENT, st)
+            moved, l, gl, tested = _walk(T, P, counts, l, r, gl, 0, ccwb, ccws)
+            o_calls += tested
             if moved:
                 continue
-            moved, r, gr, st = _walk(T, P, l, r, gr, 1, ccwb, ccws)
-            o_calls += st >= 0
-            if st > 0:
-                tally_undecided(counts, ORIENT, st)
+            moved, r, gr, tested = _walk(T, P, counts, l, r, gr, 1, ccwb, ccws)
+            o_calls += tested
             if not moved:
                 break
         A = 2 * (op - 1)
@@ -301,8 +297,7 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             if vl and vr:
                 ic, st = incircle_staged(clx, cly, lx, ly, rx, ry, crx, cry, iccb, iccs)
                 i_calls += 1
-                if st > 0:
-                    tally_undecided(counts, INCIRCLE, st)
+                tally_undecided(counts, INCIRCLE, st)
                 right = ic > 0.0
             g, c = (gr, cr) if right else (gl, cl)
             _cross_edge(T, A, g, l, r, c, 1 if right else 0)

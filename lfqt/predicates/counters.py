@@ -47,11 +47,13 @@ def tally(counts, first, stage):
 
 @njit(cache=True, inline="always")
 def tally_undecided(counts, first, stage):
-    """The stage counts of ``tally`` alone, for a call that stage 1 left
-    undecided (stage > 0), when the caller counts its calls itself."""
-    counts[first + 1] += 1
-    if stage > 1:
-        counts[first + 2] += 1
+    """The stage counts of ``tally`` alone, for a caller that counts its
+    calls itself: nothing for a call stage 1 decided (stage <= 0), on a
+    branch, so that the common case does not touch ``counts``."""
+    if stage > 0:
+        counts[first + 1] += 1
+        if stage > 1:
+            counts[first + 2] += 1
 
 
 @njit(cache=True, inline="always")
