@@ -134,7 +134,13 @@ def _fresh_best_seconds(n, threads, repeats=3):
             "    t0 = time.perf_counter(); lfqt.triangulate(p, threads=th); "
             "best = min(best, time.perf_counter() - t0)\n"
             "print(best)")
-    out = subprocess.run([sys.executable, "-c", code, str(n), str(threads), str(repeats)],
+    return _in_fresh_interpreter(code, n, threads, repeats)
+
+
+def _in_fresh_interpreter(code, *args):
+    """The last number ``code`` prints, run with ``args`` in a fresh
+    interpreter."""
+    out = subprocess.run([sys.executable, "-c", code, *map(str, args)],
                          capture_output=True, text=True, check=True).stdout
     return float(out.split()[-1])
 
@@ -152,9 +158,7 @@ class TrackMemory:
                 "p = np.random.default_rng(0).random((n, 2)); "
                 "lfqt.triangulate(p, threads=th); "
                 "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / n)")
-        out = subprocess.run([sys.executable, "-c", code, str(n), str(threads)],
-                             capture_output=True, text=True, check=True).stdout
-        return float(out.split()[-1])
+        return _in_fresh_interpreter(code, n, threads)
     track_peak_bytes_per_point.unit = "B/point"
 
 
