@@ -143,17 +143,22 @@ def exact_coordinates2d(points):
     return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
 
 
-def exact_points(points, dims):
+def exact_points(points, dims, copy=True):
     """Validated (n, d) float64 coordinates rescaled by an exact power of two
-    into the exactness window of dimension d; returns (P, scale exponent)."""
+    into the exactness window of dimension d; returns (P, scale exponent,
+    the largest |coordinate| of P).  With ``copy=False``, P is the input
+    itself when that needs neither a new dtype, nor a new layout, nor a
+    rescaling: for callers that only read it (16 MB less to write for 1M 2D
+    points)."""
     arr = as_exact_float(points, dims)
     big, small = _checked_magnitudes(arr)
     window = (MAX_EXP, MIN_ULP_EXP) if arr.shape[1] == 2 else (MAX_EXP_3D, MIN_ULP_EXP_3D)
     s = window_exponent(float(big), float(small), *window)
-    P = np.array(arr, dtype=np.float64, order="C")
-    if s:
-        P *= 2.0 ** s
-    return P, s
+    if s:  # a new array either way, in one pass
+        P = np.multiply(arr, 2.0 ** s, dtype=np.float64, order="C")
+    else:
+        P = np.array(arr, dtype=np.float64, order="C", copy=copy or None)
+    return P, s, float(big) * 2.0 ** s
 
 
 def exact_points3(points):

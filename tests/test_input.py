@@ -65,3 +65,24 @@ def test_masked_arrays_are_refused():
                          (lfqt.Delaunay, ValueError)):  # ValueError: scipy's
         with pytest.raises(error, match="masked"):
             build(pts)
+
+
+@pytest.mark.parametrize("case", ["float64", "fortran", "float32", "rescaled", "integers"])
+@pytest.mark.parametrize("copy", [True, False])
+def test_exact_points_shares_the_input_only_when_asked_and_unchanged(case, copy):
+    """copy=False hands back the caller's own array when it is already C
+    float64 in the window, a new one otherwise; the input is never written,
+    and the reported largest magnitude is P's."""
+    base = np.random.default_rng(3).random((300, 2)) - 0.5
+    arr = {"float64": base, "fortran": np.asfortranarray(base),
+           "float32": base.astype(np.float32), "rescaled": base * 2.0 ** -1060,
+           "integers": np.round(base * 1000).astype(np.int64)}[case]
+    before = arr.copy()
+    P, s, largest = _input.exact_points(arr, (2,), copy=copy)
+    assert np.array_equal(arr, before)
+    assert P.dtype == np.float64 and P.flags.c_contiguous
+    assert np.array_equal(P, arr.astype(np.float64) * 2.0 ** s)
+    assert largest == np.abs(P).max()
+    shared = np.shares_memory(P, arr)
+    assert shared == (not copy and case == "float64")
+    assert (s != 0) == (case == "rescaled")

@@ -7,7 +7,7 @@ import numpy as np
 from .. import orders
 from .._input import exact_points, index_dtype
 from ..clock import cycles_per_second
-from ..predicates.counters import NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
+from ..predicates.counters import DUPLICATES, NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
 from ..triangulation import Triangulation
 from . import kernel
 
@@ -54,7 +54,7 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
         outward (k, 3) hull facets.
     """
     t0 = time.perf_counter()
-    P, s = exact_points(points, (2, 3))
+    P, s, largest = exact_points(points, (2, 3), copy=False)  # P is only read
     n, d = P.shape
     if n > MAX_POINTS:
         raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
@@ -62,7 +62,7 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     t1 = time.perf_counter()
     perm, hints, order_name, store, stored = _order(P, order, hint, seed)
     t2 = time.perf_counter()
-    span = kernel.coordinate_span(P)
+    span = kernel.coordinate_span(P, largest)
     # Store the points along space (orders.layout): vertex ids then follow
     # space, so the cells and coordinates a walk touches are close in memory
     # whatever the insertion order (the Kd order jumps across space at every
@@ -70,24 +70,29 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
     C, N, alive, ncells, dup_rank, cnt, ok = kernel.insert_all(
         stored, d, perm, hints, span, timing=phase_times)
-    dup_of = kernel.duplicate_of(store, dup_rank)
+    duplicates = int(cnt[DUPLICATES])  # points found equal to one inserted before
+    dup_of = kernel.duplicate_of(store, dup_rank) if duplicates else None
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
         simplices, neighbors, infinite = kernel.finite_cells(C, N, alive, store)
         facets = kernel.hull_facets(C, infinite, store)
         hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
+        if duplicates:
+            simplices, hull, dup_of = _first_of_duplicates(simplices, hull, dup_of)
+        else:
+            dup_of = np.arange(n, dtype=index_dtype(n))
+        n_distinct = n - duplicates
     else:
         simplices, neighbors, hull, dup_of, reason = _degenerate(P)
         degenerate = True
-    if not degenerate and np.any(dup_of != np.arange(n)):
-        simplices, hull, dup_of = _first_of_duplicates(simplices, hull, dup_of)
+        n_distinct = int(np.count_nonzero(dup_of == np.arange(n)))
     t4 = time.perf_counter()
     stats = {
         "seconds": {"validate": t1 - t0, "order": t2 - t1, "insert": t3 - t2,
                     "output": t4 - t3, "total": t4 - t0},
         "order": order_name, "dimension": d, "scale_exponent": s,
-        "n_distinct": int(np.count_nonzero(dup_of == np.arange(n))),
+        "n_distinct": n_distinct,
     }
     if counters:
         counts = {name: int(cnt[NAMES.index(name)]) for name in _COUNTED
@@ -100,7 +105,7 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
         for phase, cycles in stats["cycles"].items():
             stats["seconds"][phase] = cycles / hz
     return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
-                         duplicate_of=dup_of.astype(index_dtype(n)), stats=stats,
+                         duplicate_of=dup_of.astype(index_dtype(n), copy=False), stats=stats,
                          degenerate=degenerate, reason=reason)
 
 

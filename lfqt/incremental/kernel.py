@@ -630,10 +630,11 @@ def _duplicate_of(store, dup_rank, dup_of):
         dup_of[u(store[k])] = store[u(dup_rank[k])]
 
 
-def coordinate_span(P):
-    """The largest |coordinate| of the (rescaled) points, 1 for none: the
-    scale insert_all's ``span`` expects."""
-    return float(np.abs(P).max(initial=1.0)) or 1.0
+def coordinate_span(P, largest=None):
+    """The largest |coordinate| of the (rescaled) points, at least 1: the
+    scale insert_all's ``span`` expects.  ``largest``: that |coordinate|,
+    when the caller knows it (lfqt._input.exact_points)."""
+    return max(1.0, float(np.abs(P).max(initial=0.0)) if largest is None else largest)
 
 
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
@@ -734,21 +735,31 @@ def _finite_bitmap(C, alive):
     return bits, first, k, live
 
 
+# Cells come in the order they were made, which follows the insertion order
+# across space, so the vertex ids of one cell and the next are far apart in
+# ``ids``: the cell AHEAD rows on asks for two of its vertices' entries
+# (the third shares their cache lines, mostly).  1M points, 2D: 38 -> 25 ms.
+AHEAD = 32
+
+
 @njit(cache=True)
 def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite):
-    width = C.shape[1]
+    m, width = C.shape
     j = 0
     n_inf = 0
-    for c in range(C.shape[0]):
+    for c in range(m):
+        ahead = min(c + AHEAD, m - 1)
+        prefetch(ids, np.int64(C[u(ahead), 0]))  # a hint: INF (-1) does no harm
+        prefetch(ids, np.int64(C[u(ahead), 1]))
         if not bit(bits, c):
-            if alive[c]:
+            if alive[u(c)]:
                 infinite[u(n_inf)] = c
                 n_inf += 1
             continue
         for i in range(width):
-            simplices[j, i] = ids[C[c, i]]
-            nb = N[c, i]
-            neighbors[j, i] = rank(bits, first, nb) if bit(bits, nb) else -1
+            simplices[u(j), u(i)] = ids[u(C[u(c), u(i)])]
+            nb = N[u(c), u(i)]
+            neighbors[u(j), u(i)] = rank(bits, first, nb) if bit(bits, nb) else -1
         j += 1
 
 
