@@ -50,10 +50,13 @@ class Failure:
 
 
 def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,
-            warmup=True):
-    """Prepare once, warm up (not counted), then time ``repeats`` runs."""
+            warmup=True, on_prepared=None):
+    """Prepare once (``on_prepared()`` is called then), warm up (not
+    counted), then time ``repeats`` runs."""
     peer.check()
     peer.prepare(points, order=order, count=count)
+    if on_prepared:
+        on_prepared()
     baseline = current_rss()
     if warmup:
         peer.run()
@@ -107,7 +110,8 @@ def _child(conn, peer, points, kwargs, memory_bytes, parent):
     if memory_bytes:
         resource.setrlimit(resource.RLIMIT_AS, (memory_bytes, memory_bytes))
     try:
-        conn.send(("ok", measure(peer, points, **kwargs)))
+        conn.send(("ok", measure(peer, points, on_prepared=lambda: conn.send(("prepared", None)),
+                                 **kwargs)))
     except MemoryError:
         conn.send(("fail", Failure("memory", "MemoryError")))
     except BaseException as e:  # noqa: BLE001 - every failure is data here
@@ -116,27 +120,47 @@ def _child(conn, peer, points, kwargs, memory_bytes, parent):
         conn.close()
 
 
-def measure_isolated(peer, points, *, timeout=600.0, memory_bytes=None, **kwargs):
-    """``measure`` in a forked child.  Returns a Measurement or a Failure."""
+# How long a child may take to prepare, at least: lfqt's peers compile their
+# kernels there (on 64 points), and numba compiles everything afresh on a
+# cold cache (a new install, or any change to the package: lfqt.jit_cache),
+# which took over 120 s for the inserter, the default scale's whole limit.
+PREPARE_SECONDS = 900.0
+
+
+def measure_isolated(peer, points, *, timeout=600.0, prepare_timeout=None, memory_bytes=None,
+                     **kwargs):
+    """``measure`` in a forked child.  Returns a Measurement or a Failure.
+    ``timeout`` bounds the warm-up and the timed runs, from the end of the
+    preparation; the preparation gets ``prepare_timeout`` (default: the
+    larger of ``timeout`` and PREPARE_SECONDS), so that a cold JIT cache is
+    not recorded as the peer's timeout, and a peer that is slow on the
+    input still is one."""
     ctx = mp.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, peer, np.asarray(points), kwargs, memory_bytes,
                                             os.getpid()))
     proc.start()
     send.close()
-    deadline = time.monotonic() + timeout
+    prepare_limit = max(timeout, PREPARE_SECONDS) if prepare_timeout is None else prepare_timeout
+    deadline = time.monotonic() + prepare_limit
+    prepared = False
     msg = None
     while msg is None:
         left = deadline - time.monotonic()
         if left <= 0:
             proc.kill()
             proc.join()
-            return Failure("timeout", f"no result within {timeout:g} s")
+            return Failure("timeout", f"no result within {timeout:g} s" if prepared else
+                           f"not prepared within {prepare_limit:g} s (its set-up, JIT "
+                           "compilation included)")
         if recv.poll(min(left, 0.2)):
             try:
                 msg = recv.recv()
             except EOFError:
                 break
+            if msg[0] == "prepared":  # the runs start: the timeout from now
+                prepared, msg = True, None
+                deadline = time.monotonic() + timeout
         elif not proc.is_alive():
             if recv.poll(0):
                 continue

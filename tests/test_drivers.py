@@ -109,6 +109,27 @@ def test_isolated_failures_are_recorded(peer, reason, kwargs):
     assert not out.ok and out.reason == reason, out
 
 
+class SlowPrepare(Sleeper):
+    """Like our peers on a cold JIT cache: a slow preparation (they compile
+    there), then quick runs."""
+    def prepare(self, points, order=None, count=False):
+        time.sleep(4.0)
+
+    def run(self):
+        time.sleep(0.01)
+
+
+def test_the_timeout_starts_after_the_preparation():
+    """A slow preparation (compilation) is not the peer's timeout, a slow run
+    is (Sleeper, above); a preparation past its own limit is one too, and
+    says so."""
+    out = drivers.measure_isolated(SlowPrepare(), np.zeros((3, 2)), repeats=2, timeout=1.0)
+    assert out.ok and len(out.seconds) == 2, out
+    out = drivers.measure_isolated(SlowPrepare(), np.zeros((3, 2)), repeats=2, timeout=1.0,
+                                   prepare_timeout=1.0)
+    assert not out.ok and out.reason == "timeout" and "not prepared" in out.detail, out
+
+
 def test_isolated_success_returns_measurement(rng):
     out = drivers.measure_isolated(drivers.make("lfqt-dc"), rng.random((500, 2)), repeats=2,
                                    timeout=120)
