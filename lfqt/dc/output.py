@@ -22,9 +22,14 @@ result never coexist (peak memory, lfqt.dc._output):
 import numpy as np
 from numba import njit
 
-from ..indexing import bit, popcount, rank, u
+from ..indexing import bit, popcount, prefetch, rank, u
 from .layout import slot, tri
 from .subdivide import DUP
+
+
+# Morton order scatters the input indices: gather_points asks for the point
+# AHEAD positions on before it reads it (1M: 9-17 -> 6-11 ms on a VM).
+AHEAD = 32
 
 
 @njit(cache=True, nogil=True)
@@ -33,6 +38,7 @@ def gather_points(x, y, perm, scale, P, lo, hi):
     Morton order as float64 (an exact power-of-two scale); x and y of a point
     share a cache line."""
     for i in range(lo, hi):
+        prefetch(x, np.int64(perm[u(min(i + AHEAD, hi - 1))]))
         j = u(perm[u(i)])
         P[u(i), 0] = np.float64(x[j]) * scale
         P[u(i), 1] = np.float64(y[j]) * scale
