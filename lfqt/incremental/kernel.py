@@ -34,6 +34,7 @@ INF = -1
 CELLS_PER_POINT = 8  # the cell storage insert_all starts with (it doubles when full)
 MAX_CELLS = 2 ** 31 - 1  # cell ids are int32: the storage grows no further
 DEAD = -1  # the mark of a freed cell; live cells hold 0 or a cavity stamp (> 0)
+WALK_AHEAD = 8  # points between asking for a walk's first cell and walking it
 
 
 @njit(cache=True, inline="always")
@@ -361,6 +362,10 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
     for t in range(t0, n):
         if pick[0] == t or pick[1] == t or pick[2] == t or pick[d] == t:
             continue  # a vertex of the initial simplex
+        # the walk of the point WALK_AHEAD places on starts in its hint's
+        # cell: ask for that cell's record now (it may be gone by then: a hint)
+        ha = hint[u(min(t + WALK_AHEAD, n - 1))]
+        prefetch(C, np.int64(vcell[u(ha)] if ha >= 0 else 0))
         p = perm[u(t)]
         h = hint[u(t)]
         c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
