@@ -310,6 +310,16 @@ def _new_triangle(C, N, mark, vcell, w, x, i, p):
 
 
 @njit(cache=True, inline="always")
+def _ask_for_walk_start(C, vcell, hint, t):
+    """Ask the caches for the record of the cell that the walk of the t-th
+    point will start in, its hint's; by then the cell may be gone (it is a
+    hint, like the hint itself).  Cell ids come from the free list, so that
+    record is a miss wherever the points are."""
+    h = hint[u(t)]
+    prefetch(C, np.int64(vcell[u(h)] if h >= 0 else 0))
+
+
+@njit(cache=True, inline="always")
 def _commit(counts, pending):
     """Add a point's counts to the totals and clear them."""
     for k in range(N_PREDICATE):
@@ -362,10 +372,7 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
     for t in range(t0, n):
         if pick[0] == t or pick[1] == t or pick[2] == t or pick[d] == t:
             continue  # a vertex of the initial simplex
-        # the walk of the point WALK_AHEAD places on starts in its hint's
-        # cell: ask for that cell's record now (it may be gone by then: a hint)
-        ha = hint[u(min(t + WALK_AHEAD, n - 1))]
-        prefetch(C, np.int64(vcell[u(ha)] if ha >= 0 else 0))
+        _ask_for_walk_start(C, vcell, hint, min(t + WALK_AHEAD, n - 1))
         p = perm[u(t)]
         h = hint[u(t)]
         c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
