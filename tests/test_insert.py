@@ -210,12 +210,15 @@ def test_verify_3d_rejects_broken_meshes(rng):
 
 @pytest.mark.parametrize("d", [2, 3])
 @pytest.mark.parametrize("scale", [1.0, 2.0 ** -1050])
-def test_insert_leaves_its_input_untouched(d, scale, rng):
+@pytest.mark.parametrize("order", ["kdtree", "input"])  # the Kd layout, and the coarse Hilbert one
+def test_insert_leaves_its_input_untouched(d, scale, order, rng):
     """insert reads the caller's array in place when it needs no rescale
-    (lfqt._input.exact_points(copy=False)): it must never write it."""
+    (lfqt._input.exact_points(copy=False)): it must never write it, nor
+    refuse a read-only one (numpy and numba raise on a write to it)."""
     pts = rng.random((3000, d)) * scale
     before = pts.copy()
-    tri = insert_verified(pts)
+    pts.setflags(write=False)
+    tri = insert_verified(pts, order=order)
     assert np.array_equal(pts, before) and tri.points is pts
     assert tri.n_distinct == 3000
     assert np.array_equal(tri.duplicate_of, np.arange(3000))
