@@ -12,9 +12,9 @@ from . import results, runner
 
 SCALES = ("smoke", "default", "paper")
 # Per-cell limit (child process: warm-up and repeats; its preparation, JIT
-# compilation included, has its own: drivers.isolate.PREPARE_SECONDS).  A peer that is
-# pathological on a set (Qhull on nearly cocircular points) is recorded as a
-# timeout, as paper 1 recorded Triangle failing at 100M points.
+# compilation included, has its own: drivers.isolate.PREPARE_SECONDS).  A
+# peer that is pathological on a set (Qhull on nearly cocircular points) is
+# recorded as a timeout, as paper 1 recorded Triangle failing at 100M points.
 TIMEOUTS = {"smoke": 60.0, "default": 120.0, "paper": 1800.0}
 
 
