@@ -244,57 +244,45 @@ def _digit_chunk(keys, lo, hi, shift):
 
 
 @njit(cache=True, nogil=True)
-def _longest_run(shi):
-    n = shi.shape[0]
-    longest = 0
-    start = 0
-    for i in range(1, n + 1):
-        if i == n or shi[i] != shi[i - 1]:
-            longest = max(longest, i - start)
-            start = i
-    return longest
+def _sort_run(slo, perm, a, b):
+    """Stable sort of slo[a:b] carrying perm: insertion sort for a short run,
+    radix sort with scratch of the run's own size for a long one."""
+    if b - a > _INSERTION_RUN:
+        radix_sort_range(slo[a:b], perm[a:b], 0, b - a, np.empty(b - a, dtype=np.uint64),
+                         np.empty(b - a, dtype=perm.dtype))
+        return
+    for i in range(a + 1, b):
+        k = slo[u(i)]
+        p = perm[u(i)]
+        j = i - 1
+        while j >= a and slo[u(j)] > k:
+            slo[u(j + 1)] = slo[u(j)]
+            perm[u(j + 1)] = perm[u(j)]
+            j -= 1
+        slo[u(j + 1)] = k
+        perm[u(j + 1)] = p
 
 
 @njit(cache=True, nogil=True)
-def order_ties(shi, slo, perm):
-    """Within each run of equal ``shi``, sort ``slo`` (carrying perm) stably:
-    insertion sort for short runs, radix sort for long ones."""
+def order_runs(shi, src, perm, slo, lo, hi):
+    """Each run of equal high words ``shi`` that starts in [lo, hi) (it may
+    end past hi; one that starts before lo is its chunk's): gather its low
+    words, slo[i] = src[perm[i]], and sort them stably, carrying perm.  The
+    positions outside runs are not written."""
     n = shi.shape[0]
-    # Scratch is sized before the loop: an array variable reassigned inside
-    # it costs numba reference counting on every iteration.
-    size = n if _longest_run(shi) > _INSERTION_RUN else 0
-    key_buf = np.empty(size, dtype=np.uint64)
-    perm_buf = np.empty(size, dtype=perm.dtype)
-    start = 0
-    while start < n:
-        end = start + 1
-        while end < n and shi[end] == shi[start]:
-            end += 1
-        if end - start > _INSERTION_RUN:
-            radix_sort_range(slo, perm, start, end, key_buf, perm_buf)
-        elif end - start > 1:
-            for i in range(start + 1, end):
-                k = slo[i]
-                p = perm[i]
-                j = i - 1
-                while j >= start and slo[j] > k:
-                    slo[j + 1] = slo[j]
-                    perm[j + 1] = perm[j]
-                    j -= 1
-                slo[j + 1] = k
-                perm[j + 1] = p
-        start = end
-
-
-@njit(cache=True, nogil=True)
-def gather_in_runs(shi, src, perm, dst, lo, hi):
-    """dst[i] = src[perm[i]] for the i in [lo, hi) that share their high word
-    ``shi[i]`` with a neighbour; the others are not written."""
-    n = shi.shape[0]
-    for i in range(lo, hi):
+    i = lo
+    while 0 < i < hi and shi[u(i)] == shi[u(i - 1)]:
+        i += 1
+    while i < hi:
         k = shi[u(i)]
-        if (i > 0 and shi[u(i - 1)] == k) or (i + 1 < n and shi[u(i + 1)] == k):
-            dst[u(i)] = src[u(perm[u(i)])]
+        end = i + 1
+        while end < n and shi[u(end)] == k:
+            end += 1
+        if end - i > 1:
+            for j in range(i, end):
+                slo[u(j)] = src[u(perm[u(j)])]
+            _sort_run(slo, perm, i, end)
+        i = end
 
 
 def sort_keys128(hi, lo, perm, workers):
@@ -310,7 +298,5 @@ def sort_keys128(hi, lo, perm, workers):
     per point, and the untouched pages."""
     shi, perm = sort_keys(hi, perm, workers)
     slo = np.empty(len(lo), dtype=np.uint64)
-    workers.map(workers.chunks(len(lo)),
-                lambda c, a, b: gather_in_runs(shi, lo, perm, slo, a, b))
-    order_ties(shi, slo, perm)
+    workers.map(workers.chunks(len(lo)), lambda c, a, b: order_runs(shi, lo, perm, slo, a, b))
     return shi, slo, perm

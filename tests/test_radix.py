@@ -3,6 +3,7 @@ import sys
 import textwrap
 
 import numpy as np
+import pytest
 from hypothesis import given, strategies as st
 
 from lfqt import radix
@@ -62,6 +63,29 @@ def test_long_runs_of_equal_high_words_use_radix_and_stay_stable(rng):
     lo = rng.integers(0, 50, n).astype(np.uint64)
     _, slo, perm = radix.sort_keys128(hi, lo, perm32(n), Workers(1))
     assert np.array_equal(perm, np.argsort(lo, kind="stable"))
+
+
+@pytest.mark.parametrize("threads", [1, 3])
+def test_runs_of_equal_high_words_across_chunks_are_ordered_once(rng, threads):
+    # Runs of every length, short (insertion sort) and long (radix), many of
+    # them crossing the boundaries of the 3 chunks: each run must be sorted
+    # by exactly one chunk, the one it starts in.
+    n = 3 * (1 << 16) + 17
+    lengths = rng.choice([1, 2, 5, 24, 25, 300, 40000], size=n)
+    hi = np.repeat(np.arange(n, dtype=np.uint64), lengths)[:n][rng.permutation(n)]
+    lo = rng.integers(0, 2 ** 64, n, dtype=np.uint64)
+    lo[::5] = lo[1]  # equal full keys: stability decides
+    with Workers(threads) as w:
+        assert len(w.chunks(n)) == threads
+        shi, slo, perm = radix.sort_keys128(hi.copy(), lo, perm32(n), w)
+    expect = np.lexsort((np.arange(n), lo, hi))
+    assert np.array_equal(perm, expect)
+    assert np.array_equal(shi, hi[expect])
+    run = np.zeros(n, dtype=bool)
+    run[1:] |= shi[1:] == shi[:-1]
+    run[:-1] |= shi[1:] == shi[:-1]
+    assert run.sum() > n // 2
+    assert np.array_equal(slo[run], lo[expect][run])
 
 
 def test_constant_digits_are_skipped():
