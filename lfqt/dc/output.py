@@ -114,7 +114,10 @@ def _neighbor(bits, first, e):
 
 @njit(cache=True, nogil=True)
 def move_rows(T, src, dst, count):
-    """T[dst:dst + count] = T[src:src + count] for dst <= src (forward)."""
+    """T[dst:dst + count] = T[src:src + count] for dst <= src (forward); the
+    first chunk's rows are already in place (src == dst)."""
+    if src == dst:
+        return
     for j in range(count):
         T[u(dst + j)] = T[u(src + j)]
 
