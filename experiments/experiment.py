@@ -39,6 +39,9 @@ class Experiment:
     # of the runner, for cells that are not one peer in one child process
     # (experiments.distributed runs a whole Dask cluster per cell)
     measure: Callable = None
+    # args -> more entries of the metadata sidecar, measured before the grid
+    # (fig6: this machine's own thread scaling, experiments.probe)
+    metadata: Callable = None
 
     @property
     def command(self):
@@ -107,8 +110,9 @@ class Experiment:
                 runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
                            known_failure=known,
                            force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
-                           progress=not args.quiet, extra_metadata={"scale": args.scale},
-                           command=command)
+                           progress=not args.quiet, command=command,
+                           extra_metadata={"scale": args.scale,
+                                           **(self.metadata(args) if self.metadata else {})})
         import matplotlib
         matplotlib.use("Agg")
         if not (out_dir / "results.csv").exists():

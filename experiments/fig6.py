@@ -9,7 +9,11 @@ passes the machine's physical cores (SMT beyond), read from the stored
 metadata.  The paper's text: 13-14x on 16 cores, close to 17x on 16 cores
 with 32 threads for Uniform, Circle and Spiral, +30% from Hyperthreading.
 The right panel compares parallel efficiency (speedup / threads), the one
-quantity that carries over between a 2-core and a 32-thread machine."""
+quantity that carries over between a 2-core and a 32-thread machine.
+
+Before the grid, the sidecar records what this machine lets threads gain on
+compute, random reads and dependent reads (experiments.probe); the left
+panel draws those ceilings in grey beside lfqt's speedup."""
 import os
 import sys
 
@@ -63,6 +67,24 @@ def speedups(df):
     return series
 
 
+def machine_scaling(args):
+    """Sidecar entry: this machine's own thread scaling (experiments.probe)
+    at the grid's thread counts, up to its logical CPUs."""
+    from .machine import topology
+    from .probe import thread_scaling
+    logical = topology()["logical_cpus"] or os.cpu_count() or 1
+    counts = [t for t in sorted(set(args.thread_counts or default_counts()) | {1})
+              if t <= logical]
+    return {"thread_scaling": thread_scaling(counts)}
+
+
+def ceilings(meta):
+    """{probe: {threads: speedup}} from a fig6 sidecar ({} before the probe
+    was recorded); JSON keeps the thread counts as strings."""
+    return {name: {int(t): sp for t, sp in by_t.items()}
+            for name, by_t in (meta.get("thread_scaling") or {}).items()}
+
+
 def _topology(out):
     meta = results.metadata(out, "fig6")
     return meta.get("physical_cores"), meta.get("logical_cpus")
@@ -87,6 +109,11 @@ def plot(df, out):
         eff.plot(t, sp / t, **kw)
         print(f"{peer:18} {dist:12} {n:>10,} " + " ".join(f"{v:8.2f}" for v in sp))
     ax.plot([1, tmax], [1, tmax], color="#999999", lw=0.8, ls="--", label="linear")
+    for (name, by_t), ls in zip(sorted(ceilings(results.metadata(out, "fig6")).items()),
+                                ("-.", ":", (0, (5, 1)))):
+        if len(by_t) > 1:
+            t, sp = zip(*sorted(by_t.items()))
+            ax.plot(t, sp, color="#777777", lw=1.2, ls=ls, label=f"this machine: {name}")
     for a in (ax, eff):
         top = a.get_ylim()[1] if a is ax else 1.08
         for lo, hi, text, shade in ((physical, logical, " SMT", "#eeeeee"),
@@ -121,7 +148,7 @@ EXPERIMENT = Experiment(
                                       help="comma-separated thread counts (default: powers of "
                                            "two up to the logical CPUs, the physical core "
                                            "count and the logical CPU count)")),),
-    grid_options=("thread_counts",))
+    grid_options=("thread_counts",), metadata=machine_scaling)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

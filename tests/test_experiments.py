@@ -197,6 +197,10 @@ def test_fig6_takes_any_thread_counts_and_records_the_topology(tmp_path, capsys)
         {(p, t) for p in ("lfqt-dc", "cgal-dt3-parallel") for t in (1, 3)}
     meta = json.loads((tmp_path / "smoke" / "fig6" / "metadata.json").read_text())
     assert meta["physical_cores"] >= 1 and meta["logical_cpus"] >= meta["physical_cores"]
+    # the machine's own scaling, at the grid's counts it has CPUs for
+    probed = {int(t) for t in (1, 3) if t <= meta["logical_cpus"]}
+    assert {name: {int(t) for t in by_t} for name, by_t in meta["thread_scaling"].items()} == \
+        {name: probed for name in ("compute", "random reads", "dependent reads")}
     assert "speedup over 1 thread" in capsys.readouterr().out
     assert fig6.default_counts()[0] == 1 and os.cpu_count() in fig6.default_counts()
 

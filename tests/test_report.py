@@ -121,3 +121,26 @@ def test_flat_rate_past_the_last_cache_counts_the_orders_of_magnitude(tmp_path):
     assert row.verdict == report.PARTLY and "3.6 orders of magnitude" in row.ours
     _store(tmp_path, "fig4", {("lfqt-dc", "uniform", n): n * 1e-7 * (n / 1e6) for n in sizes})
     assert report.fig4_rates(report.Results(tmp_path))[0].verdict == report.FAILS
+
+
+def test_fig6_row_gives_the_machines_own_ceiling_when_recorded(tmp_path):
+    import json
+    times = {("lfqt-dc", d, 1_000_000): 1.0 for d in DISTS}
+    rows = []
+    for (peer, dist, n), sec in times.items():
+        for t, s in ((1, sec), (2, sec / 1.8)):
+            outcome = {"status": "ok", "seconds": [s] * 3, "cycles": [s * 3e9] * 3,
+                       "peak_bytes": 0, "version": "", "counts": {}}
+            rows += results.rows_for(Cell(peer, dist, n, threads=t), "fig6", outcome)
+    (tmp_path / "fig6").mkdir()
+    results.write(tmp_path / "fig6", rows)
+    meta = {"physical_cores": 2, "logical_cpus": 2}
+    (tmp_path / "fig6" / "metadata.json").write_text(json.dumps(meta))
+    row, = report.fig6_scaling(report.Results(tmp_path))
+    assert "uniform 1.80x" in row.ours and "ceiling" not in row.ours
+    meta["thread_scaling"] = {"compute": {"1": 1.0, "2": 1.97},
+                              "random reads": {"1": 1.0, "2": 1.21}}
+    (tmp_path / "fig6" / "metadata.json").write_text(json.dumps(meta))
+    row, = report.fig6_scaling(report.Results(tmp_path))
+    assert row.ours.endswith("own ceiling at 2 threads: compute 1.97x, random reads 1.21x")
+    assert row.verdict == report.UNTESTABLE
