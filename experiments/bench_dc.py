@@ -24,7 +24,7 @@ import tempfile
 from pathlib import Path
 
 from . import results
-from .experiment import Experiment, figure_paths
+from .experiment import Experiment, figure_paths, label_ends
 from .runner import Cell
 
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
@@ -118,6 +118,7 @@ def plot(df, out):
                               "#7f7f7f"]))
     for k, dist in enumerate(dists):
         top, bottom = axes[0][k], axes[1][k]
+        ends = []  # each ratio line's last point, labelled once the axes are set
         for peer in peers:
             pts = [(n, cell(peer, dist, n)["median"]) for n in ns
                    if cell(peer, dist, n).get("median")]
@@ -129,10 +130,7 @@ def plot(df, out):
             ratios = [(n, r) for n, r in ratios if r == r]
             if peer != REFERENCE and ratios:
                 bottom.plot(*zip(*ratios), "o-", color=colors[peer], label=peer)
-                for n, r in ratios:  # staggered per peer: equal ratios stay readable
-                    bottom.annotate(f"{r:.1f}x", (n, r), textcoords="offset points",
-                                    xytext=(5, 9 * PEERS.index(peer) - 14), fontsize=7,
-                                    color=colors[peer])
+                ends.append((*ratios[-1], f"{peer} {ratios[-1][1]:.2f}x", colors[peer]))
         for peer, target in TARGETS.items():
             if peer in peers:
                 bottom.axhline(target, ls=":", color=colors[peer], lw=1)
@@ -142,6 +140,8 @@ def plot(df, out):
         bottom.axhline(1.0, color="black", lw=0.8)
         for ax in (top, bottom):
             ax.grid(True, which="both", alpha=0.3)
+        label_ends(bottom, ends)
+        top.set_xlim(bottom.get_xlim())
         if k == 0:
             top.legend(fontsize=8)
     fig.suptitle("lfqt-dc against the 2D peers, same input, same run "

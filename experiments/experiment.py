@@ -2,6 +2,7 @@
 regenerates, a grid of cells and a plot drawn from stored results only.
 ``Experiment.main`` is the command line every experiment shares."""
 import argparse
+import math
 import os
 import sys
 from dataclasses import dataclass
@@ -146,3 +147,26 @@ def figure_paths(fig, out, name):
     import matplotlib.pyplot as plt
     plt.close(fig)
     return paths
+
+
+def label_ends(ax, ends, gap=0.07):
+    """Label each line at its right end, ``ends`` being (x, y, text, color)
+    on log-log axes: the labels go right of the last x, in a column that
+    keeps them at least ``gap`` of the axis height (in log y) apart, each tied
+    to its point by a thin line."""
+    if not ends:
+        return
+    lo, hi = (math.log10(v) for v in ax.get_ylim())
+    step = gap * (hi - lo)
+    placed = []
+    for x, y, text, color in sorted(ends, key=lambda e: e[1]):
+        want = math.log10(y)
+        at = max(want, placed[-1] + step) if placed else want
+        placed.append(at)
+    shift = max(0.0, placed[-1] - hi + step / 2)  # the column slides down to fit
+    right = max(x for x, _, _, _ in ends)
+    for (x, y, text, color), at in zip(sorted(ends, key=lambda e: e[1]), placed):
+        ax.annotate(text, (x, y), xytext=(right * 1.6, 10 ** (at - shift)), textcoords="data",
+                    fontsize=7, color=color, va="center",
+                    arrowprops=dict(arrowstyle="-", color=color, lw=0.5, alpha=0.6))
+    ax.set_xlim(right=right * 9)

@@ -290,3 +290,25 @@ def test_distributed_measures_checks_and_resumes(tmp_path, capsys):
     assert (out / "cells.jsonl").read_text() == log
     meta = json.loads((out / "metadata.json").read_text())
     assert meta["resumed_cells"] == 1 and "dask" in meta and "cpu" in str(meta).lower()
+
+
+def test_line_end_labels_keep_apart_and_stay_inside_the_axes():
+    import math
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from experiments.experiment import label_ends
+    fig, ax = plt.subplots()
+    ax.set(xscale="log", yscale="log", xlim=(1e5, 1e6), ylim=(1, 100))
+    ends = [(1e6, 3.0, "a 3.00x", "red"), (1e6, 3.0, "b 3.00x", "blue"),
+            (1e6, 95.0, "c 95.00x", "grey")]
+    label_ends(ax, ends, gap=0.07)
+    texts = {t.get_text(): t.xyann for t in ax.texts}
+    assert set(texts) == {"a 3.00x", "b 3.00x", "c 95.00x"}
+    ys = sorted(math.log10(y) for _, y in texts.values())
+    assert all(b - a >= 0.07 * 2 - 1e-9 for a, b in zip(ys, ys[1:]))  # 2 decades tall
+    assert ys[-1] <= 2 and all(x > 1e6 for x, _ in texts.values())
+    assert ax.get_xlim()[1] > max(x for x, _ in texts.values())
+    plt.close(fig)
