@@ -84,9 +84,8 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
             dup_of = np.arange(n, dtype=index_dtype(n))
         n_distinct = n - duplicates
     else:
-        simplices, neighbors, hull, dup_of, reason = _degenerate(P)
+        simplices, neighbors, hull, dup_of, n_distinct, reason = _degenerate(P)
         degenerate = True
-        n_distinct = int(np.count_nonzero(dup_of == np.arange(n)))
     t4 = time.perf_counter()
     stats = {
         "seconds": {"validate": t1 - t0, "order": t2 - t1, "insert": t3 - t2,
@@ -141,20 +140,20 @@ def _first_of_duplicates(simplices, hull, dup_of):
 
 def _degenerate(P):
     """The output for points that span fewer than d dimensions: no cells,
-    the extreme points as hull, duplicates by exact equality."""
+    the extreme points as hull, duplicates by exact equality, and the number
+    of distinct points."""
     n, d = P.shape
     idx = index_dtype(n)
-    distinct = np.unique(P, axis=0, return_index=True)[1] if n else np.empty(0, int)
-    hull = np.array(sorted({int(distinct[0]), int(distinct[-1])}) if n else [], dtype=idx)
-    reason = ("no points" if n == 0 else "fewer than %d affinely independent points (%s)"
-              % (d + 1, "all equal" if len(distinct) == 1 else
-                 "collinear" if d == 2 else "collinear or coplanar"))
-    dup_of = np.arange(n)
-    if n:
+    dup_of, first = np.arange(n), np.empty(0, dtype=int)
+    if n:  # first: the first index of each distinct point, in lexicographic order
         _, first, inv = np.unique(P, axis=0, return_index=True, return_inverse=True)
         dup_of = first[inv.ravel()]
+    hull = np.array(sorted({int(first[0]), int(first[-1])}) if n else [], dtype=idx)
+    reason = ("no points" if n == 0 else "fewer than %d affinely independent points (%s)"
+              % (d + 1, "all equal" if len(first) == 1 else
+                 "collinear" if d == 2 else "collinear or coplanar"))
     empty = np.empty((0, d + 1), dtype=np.int32)
-    return empty, empty.copy(), hull, dup_of, reason
+    return empty, empty.copy(), hull, dup_of, len(first), reason
 
 
 def _chain_hull(edges):
