@@ -158,14 +158,14 @@ def label_ends(ax, ends, gap=0.07):
         return
     lo, hi = (math.log10(v) for v in ax.get_ylim())
     step = gap * (hi - lo)
+    ends = sorted(ends, key=lambda e: e[1])  # bottom up
     placed = []
-    for x, y, text, color in sorted(ends, key=lambda e: e[1]):
+    for _, y, _, _ in ends:
         want = math.log10(y)
-        at = max(want, placed[-1] + step) if placed else want
-        placed.append(at)
+        placed.append(max(want, placed[-1] + step) if placed else want)
     shift = max(0.0, placed[-1] - hi + step / 2)  # the column slides down to fit
     right = max(x for x, _, _, _ in ends)
-    for (x, y, text, color), at in zip(sorted(ends, key=lambda e: e[1]), placed):
+    for (x, y, text, color), at in zip(ends, placed):
         ax.annotate(text, (x, y), xytext=(right * 1.6, 10 ** (at - shift)), textcoords="data",
                     fontsize=7, color=color, va="center",
                     arrowprops=dict(arrowstyle="-", color=color, lw=0.5, alpha=0.6))
