@@ -140,8 +140,7 @@ def plot(df, out):
         bottom.axhline(1.0, color="black", lw=0.8)
         for ax in (top, bottom):
             ax.grid(True, which="both", alpha=0.3)
-        label_ends(bottom, ends)
-        top.set_xlim(bottom.get_xlim())
+        label_ends(bottom, ends)  # widens the shared x axis for the labels
         if k == 0:
             top.legend(fontsize=8)
     fig.suptitle("lfqt-dc against the 2D peers, same input, same run "

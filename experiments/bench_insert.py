@@ -52,13 +52,14 @@ def plot(df, out):
             med = [results.cell(s, peer, dist, n, False).get("median") for n in ns]
             xs = [i + k * width for i in range(len(ns))]
             # time per point: both sizes on one readable scale
-            ax.bar(xs, [(m or 0) / n * 1e6 for m, n in zip(med, ns)], width, label=peer)
-            for x, m, n in zip(xs, med, ns):
+            us = [(m or 0) / n * 1e6 for m, n in zip(med, ns)]
+            ax.bar(xs, us, width, label=peer)
+            for x, m, n, h in zip(xs, med, ns, us):
                 base = results.cell(s, ours, dist, n, False).get("median")
                 r = results.ratio(base, m)
                 lo = results.cell(s, peer, dist, n, False).get("min")
                 if m:
-                    ax.text(x, m / n * 1e6, f"{m:.2f}s" + ("" if peer == ours else f"\n{r:.2f}x"),
+                    ax.text(x, h, f"{m:.2f}s" + ("" if peer == ours else f"\n{r:.2f}x"),
                             ha="center", va="bottom", fontsize=7)
                     print(f"{dim:>3} {n:>10,} {peer:18} {m:9.3f} {lo:8.3f} "
                           f"{results.fmt_ratio(r) if peer != ours else '':>10}")

@@ -45,8 +45,14 @@ def default_counts():
     return sorted(counts)
 
 
+def _counts(thread_counts):
+    """The grid's thread counts: those asked for (default_counts when none),
+    with 1, the base of every speedup."""
+    return sorted(set(thread_counts or default_counts()) | {1})
+
+
 def grid(scale, threads, thread_counts=None):
-    counts = sorted(set(thread_counts or default_counts()) | {1})
+    counts = _counts(thread_counts)
     cells = [Cell("lfqt-dc", d, SIZES[scale], threads=t) for d in DISTS for t in counts]
     cells += [Cell("cgal-dt3-parallel", "cube", SIZES_3D[scale], threads=t) for t in counts]
     return cells
@@ -73,8 +79,7 @@ def machine_scaling(args):
     from .machine import topology
     from .probe import thread_scaling
     logical = topology()["logical_cpus"] or os.cpu_count() or 1
-    counts = [t for t in sorted(set(args.thread_counts or default_counts()) | {1})
-              if t <= logical]
+    counts = [t for t in _counts(args.thread_counts) if t <= logical]
     return {"thread_scaling": thread_scaling(counts)}
 
 
@@ -85,15 +90,11 @@ def ceilings(meta):
             for name, by_t in (meta.get("thread_scaling") or {}).items()}
 
 
-def _topology(out):
-    meta = results.metadata(out, "fig6")
-    return meta.get("physical_cores"), meta.get("logical_cpus")
-
-
 def plot(df, out):
     import matplotlib.pyplot as plt
     series = speedups(df)
-    physical, logical = _topology(out)
+    meta = results.metadata(out, "fig6")
+    physical, logical = meta.get("physical_cores"), meta.get("logical_cpus")
     fig, (ax, eff) = plt.subplots(1, 2, figsize=(12, 4.6), gridspec_kw=dict(width_ratios=(3, 2)))
     tmax = max([t for s in series.values() for t, _, _ in s] + [2])
     print(f"\n{'peer':18} {'distribution':12} {'n':>10} " + " ".join(
@@ -109,8 +110,7 @@ def plot(df, out):
         eff.plot(t, sp / t, **kw)
         print(f"{peer:18} {dist:12} {n:>10,} " + " ".join(f"{v:8.2f}" for v in sp))
     ax.plot([1, tmax], [1, tmax], color="#999999", lw=0.8, ls="--", label="linear")
-    for (name, by_t), ls in zip(sorted(ceilings(results.metadata(out, "fig6")).items()),
-                                ("-.", ":", (0, (5, 1)))):
+    for (name, by_t), ls in zip(sorted(ceilings(meta).items()), ("-.", ":", (0, (5, 1)))):
         if len(by_t) > 1:
             t, sp = zip(*sorted(by_t.items()))
             ax.plot(t, sp, color="#777777", lw=1.2, ls=ls, label=f"this machine: {name}")

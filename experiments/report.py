@@ -244,13 +244,14 @@ def fig6_scaling(res):
         return [_missing(*claim, "fig6")]
     from .fig6 import ceilings, speedups
     series = speedups(df)
-    physical = res.meta("fig6").get("physical_cores") or 1
+    meta = res.meta("fig6")
+    physical = meta.get("physical_cores") or 1
     ours = {d: dict((t, sp) for t, sp, _ in s) for (p, d, n), s in series.items()
             if p == "lfqt-dc"}
     at = min(16, physical)
     text = ", ".join(f"{d} {v.get(at, float('nan')):.2f}x" for d, v in ours.items())
     probes = ", ".join(f"{name} {by_t[at]:.2f}x" for name, by_t in
-                       ceilings(res.meta("fig6")).items() if at in by_t)
+                       ceilings(meta).items() if at in by_t)
     ceiling = f"; this machine's own ceiling at {at} threads: {probes}" if probes else ""
     if physical >= 16:
         worst = min(v.get(16, 0) for v in ours.values())
