@@ -10,7 +10,9 @@ measured R times, round after round (default 3 rounds of 3 runs), so that a
 drift of this shared machine's speed hits every peer alike; medians and
 minima pool the rounds.  We print each peer's median as a ratio to
 lfqt-dc's (> 1: lfqt is faster; targets against each family's fastest
-variant: Triangle >= 3, CGAL >= 2.5), lfqt's
+variant: Triangle >= 3, CGAL >= 2.5), beside it the median of the ratios
+of each round's own medians (results.round_ratio: robust to a round the
+whole machine ran slow in), lfqt's
 rate in points/s and its peak memory above the input in bytes per point.
 Compile time is measured apart, in fresh interpreters with a cold and a
 warm numba cache.  Results: results/bench_dc/ (tidy CSV, metadata,
@@ -81,7 +83,8 @@ def plot(df, out):
         return results.cell(s, peer, dist, n, False)
 
     print(f"\n{'set':8} {'n':>10} {'peer':20} {'median s':>9} {'min s':>8} {'peer/lfqt':>9} "
-          f"{'Mpt/s':>6} {'B/pt':>5}   (peer/lfqt > 1: lfqt is faster; pooled over rounds)")
+          f"{'by round':>9} {'Mpt/s':>6} {'B/pt':>5}   (peer/lfqt > 1: lfqt is faster; medians "
+          "pooled over rounds, and the median of the rounds' own ratios)")
     for dist in dists:
         for n in ns:
             ref = cell(REFERENCE, dist, n).get("median")
@@ -93,14 +96,19 @@ def plot(df, out):
                     print(f"{dist:8} {n:>10,} {peer:20} {c['status']}: {c['detail'][:60]}")
                     continue
                 r = results.ratio(c["median"], ref)
+                by_round = results.round_ratio(df, peer, REFERENCE, dist, n, False)[0]
                 print(f"{dist:8} {n:>10,} {peer:20} {c['median']:9.3f} {c['min']:8.3f} "
                       f"{results.fmt_ratio(r) if peer != REFERENCE else '':>9} "
+                      f"{results.fmt_ratio(by_round) if peer != REFERENCE else '':>9} "
                       f"{n / c['median'] / 1e6:6.2f} {c['bytes_per_point'] or 0:5.0f}")
             for family, variants in results.VARIANTS_2D.items():
                 best, t = results.fastest(s, variants, dist, n, False)
                 if best and ref:
+                    by_round, per = results.round_ratio(df, best, REFERENCE, dist, n, False)
                     print(f"{dist:8} {n:>10,} headline: {family} at its fastest ({best}) is "
-                          f"{results.fmt_ratio(results.ratio(t, ref))} lfqt's time")
+                          f"{results.fmt_ratio(results.ratio(t, ref))} lfqt's time; by round "
+                          f"{results.fmt_ratio(by_round)} ("
+                          + ", ".join(map(results.fmt_ratio, per)) + ")")
         rates = [n / cell(REFERENCE, dist, n)["median"] / 1e6 for n in ns
                  if cell(REFERENCE, dist, n).get("median")]
         if len(rates) > 1:

@@ -43,7 +43,8 @@ def plot(df, out):
     ns = sorted(df["n"].unique())
     fig, axes = plt.subplots(1, len(SETUPS), figsize=(6 * len(SETUPS), 4.5), squeeze=False)
     print(f"\n{'dim':>3} {'n':>10} {'peer':18} {'median s':>9} {'min s':>8} {'lfqt/peer':>10}"
-          "   (lfqt time / peer time, lfqt's including its output arrays; targets: <= "
+          f" {'by round':>9}   (lfqt time / peer time, lfqt's including its output arrays; "
+          "medians pooled over rounds, and the median of the rounds' own ratios; targets: <= "
           + ", ".join(f"{t} in {d}D" for d, t in TARGETS.items()) + ")")
     for ax, (dim, dist, ours, cgal) in zip(axes[0], SETUPS):
         peers = [ours] + cgal
@@ -61,8 +62,10 @@ def plot(df, out):
                 if m:
                     ax.text(x, h, f"{m:.2f}s" + ("" if peer == ours else f"\n{r:.2f}x"),
                             ha="center", va="bottom", fontsize=7)
+                    by_round = results.round_ratio(df, ours, peer, dist, n, False)[0]
                     print(f"{dim:>3} {n:>10,} {peer:18} {m:9.3f} {lo:8.3f} "
-                          f"{results.fmt_ratio(r) if peer != ours else '':>10}")
+                          f"{results.fmt_ratio(r) if peer != ours else '':>10} "
+                          f"{results.fmt_ratio(by_round) if peer != ours else '':>9}")
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(ns))], [f"{n:,}" for n in ns])
         ax.set_ylabel("microseconds per point (median)")
         ax.set_ylim(top=ax.get_ylim()[1] * 1.15)  # room for the labels

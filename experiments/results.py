@@ -144,6 +144,27 @@ def ratio(a, b):
     return a / b if a and b else float("nan")
 
 
+def round_ratio(df, a, b, *key):
+    """The ratio of peer ``a``'s time to peer ``b``'s in the cell ``key``
+    (distribution, n, count), taken round by round: in each round both
+    medians of that round's ok runs, then the median of the rounds'
+    ratios.  Returns (that median, the rounds' ratios); (NaN, []) when no
+    round timed both.
+
+    The rounds are interleaved so that a drift of the machine's speed hits
+    every peer alike; a pooled median (``summarize``) can still pair a slow
+    round's runs of one peer with a fast round's of the other, which the
+    ratio of same-round medians cannot.  With one round both agree."""
+    sel = df[(df["status"] == "ok") & df["seconds"].notna()]
+    for column, value in zip(CELL[1:], key):
+        sel = sel[sel[column] == value]
+    per = sel[sel["peer"].isin([a, b])].groupby(["round", "peer"])["seconds"].median().unstack()
+    if a not in per or b not in per:
+        return float("nan"), []
+    ratios = (per[a] / per[b]).dropna().tolist()
+    return (float(np.median(ratios)) if ratios else float("nan")), ratios
+
+
 def fmt_ratio(x):
     return "-" if x != x else f"{x:.2f}x"
 
