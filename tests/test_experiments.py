@@ -28,6 +28,21 @@ def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
                for r in rows}
     expect = (sum(medians["triangle"]) / 2) / (sum(medians["lfqt-dc"]) / 2)
     assert f"{expect:.2f}x" in tri
+    # beside it, the median of the rounds' own ratios (here the mean of two)
+    by_round = {(r["round"], r["peer"]): r["seconds"] for r in rows}
+    per = [by_round[k, "triangle"] / by_round[k, "lfqt-dc"] for k in (0, 1)]
+    assert tri.split()[-3] == f"{sum(per) / 2:.2f}x"
+    headline = next(l for l in text.splitlines() if "headline: Triangle" in l)
+    assert headline.endswith("(" + ", ".join(f"{x:.2f}x" for x in per) + ")")
+
+
+def test_bench_dc_measures_qhull_at_1m_only_at_paper_scale():
+    def qhull_sizes(scale):
+        return {c.n for c in bench_dc.grid(scale, 1) if c.peer == "qhull-2d"}
+    assert qhull_sizes("default") == {100_000}
+    assert qhull_sizes("paper") == {100_000, 1_000_000}
+    assert {c.n for c in bench_dc.grid("default", 1) if c.peer == "cgal-dt2"} == {100_000,
+                                                                                  1_000_000}
 
 
 def test_runner_records_resumes_and_never_loses_a_finished_cell(tmp_path):
