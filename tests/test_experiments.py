@@ -128,12 +128,19 @@ def test_main_job_at_smoke_scale(smoke_results):
 def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, capsys):
     from experiments import bench_insert
     assert bench_insert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
-                              "--repeats", "1"]) == 0
+                              "--repeats", "1", "--rounds", "2"]) == 0
     rows = load_rows(tmp_path / "smoke" / "bench_insert")
     assert {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"} == {
         (peer, dist) for _, dist, ours, cgal in bench_insert.SETUPS for peer in [ours] + cgal}
+    assert sorted({r["round"] for r in rows}) == [0, 1]
     assert (tmp_path / "smoke" / "figures" / "bench_insert.png").stat().st_size > 20000
-    assert "lfqt time / peer time" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "lfqt time / peer time" in text
+    # the last column: the median (here the mean) of the two rounds' own ratios
+    t = {(r["round"], r["peer"], r["distribution"]): r["seconds"] for r in rows}
+    per = [t[k, "lfqt-insert-kdtree", "cube"] / t[k, "cgal-dt3", "cube"] for k in (0, 1)]
+    line = next(l for l in text.splitlines() if l.split()[:3] == ["3", "5,000", "cgal-dt3"])
+    assert line.split()[-1] == f"{sum(per) / 2:.2f}x"
 
 
 def test_rounds_repeat_timed_cells_but_not_deterministic_counts(tmp_path):
