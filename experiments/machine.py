@@ -1,6 +1,6 @@
 """What a result records about the machine it was measured on: CPU model,
-caches, cores, memory, transparent huge pages, library versions and the
-commit."""
+caches, cores, memory, transparent huge pages, free page reporting (a VM
+giving freed memory back to its host), library versions and the commit."""
 import hashlib
 import os
 import platform
@@ -17,6 +17,7 @@ def machine_info():
     info.update(topology())
     info["caches"] = cache_sizes()
     info["transparent_hugepages"] = transparent_hugepages()
+    info["free_page_reporting_order"] = free_page_reporting_order()
     try:
         info["memory_bytes"] = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     except (ValueError, OSError):
@@ -114,6 +115,19 @@ def transparent_hugepages(base=Path("/sys/kernel/mm/transparent_hugepage")):
         if chosen:
             out[name] = chosen[0]
     return out
+
+
+def free_page_reporting_order(base=Path("/sys/module/page_reporting/parameters")):
+    """The order (log2 of 4 KiB pages) of the free blocks a guest hands back
+    to its host (virtio free page reporting), or None where the kernel does
+    not report.  On such a VM a freed block the host took back faults on
+    the host when touched again: a fresh 2 MiB huge page cost 1.7-3.3 ms on
+    our Firecracker VMs (order 9), and the 208 MB of a 3D output at 1M
+    points 35 ms to 430 ms of system time from one call to the next."""
+    try:
+        return int((base / "page_reporting_order").read_text())
+    except (OSError, ValueError):
+        return None
 
 
 def cache_sizes():

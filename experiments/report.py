@@ -601,9 +601,13 @@ def _machine(res):
     for name in ("fig3", "fig4", "fig5", "fig6", "fig7", "table1", "liu_times", "liu_counts"):
         m = res.meta(name)
         if m:
+            vm = ("; a VM that hands freed memory back to its host (free page reporting, "
+                  f"order {m['free_page_reporting_order']}): fresh memory costs it host faults, "
+                  "and times swing from run to run"
+                  if m.get("free_page_reporting_order") is not None else "")
             return (f"{m.get('cpu', '?')}, {m.get('physical_cores', m.get('cores', '?'))} cores "
                     f"({m.get('logical_cpus', m.get('cores', '?'))} logical), "
-                    f"{(m.get('memory_bytes') or 0) / 2**30:.0f} GiB; commit "
+                    f"{(m.get('memory_bytes') or 0) / 2**30:.0f} GiB{vm}; commit "
                     f"{str(m.get('commit', '?'))[:10]}; measured {m.get('date', '?')}")
     return "no stored results"
 

@@ -144,3 +144,18 @@ def test_fig6_row_gives_the_machines_own_ceiling_when_recorded(tmp_path):
     row, = report.fig6_scaling(report.Results(tmp_path))
     assert row.ours.endswith("own ceiling at 2 threads: compute 1.97x, random reads 1.21x")
     assert row.verdict == report.UNTESTABLE
+
+
+def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
+    import json
+    _store(tmp_path, "fig3", _fig3())
+    meta = {"cpu": "Some CPU", "physical_cores": 2, "logical_cpus": 2, "memory_bytes": 2**34,
+            "commit": "0123456789abcdef", "free_page_reporting_order": None}
+    (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
+    line = report._machine(report.Results(tmp_path))
+    assert line.startswith("Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
+    meta["free_page_reporting_order"] = 9
+    (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
+    assert "16 GiB; a VM that hands freed memory back to its host (free page reporting, " \
+           "order 9)" in report._machine(report.Results(tmp_path))
+
