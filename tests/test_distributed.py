@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import example, given, strategies as st
 
 import lfqt
 from lfqt import distributed as D
@@ -55,6 +55,9 @@ def test_random_sets_equal_the_single_machine_triangulation(rng, n, tiles):
 
 @given(st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=1, max_size=90),
        st.integers(1, 7))
+# found by a fresh CI run: a cocircular face (2, 3, 6, 5) at the hull vertex 6 lost a triangle
+# when the tile kept 6's raw neighbours only
+@example(coords=[(0, 0), (-1, 0), (2, 0), (2, -1), (2, 5), (3, 1), (4, -2)], tiles=1)
 def test_small_integer_sets_any_tiles(coords, tiles):
     # many cocircular and collinear subsets and duplicates
     serial(np.array(coords, dtype=np.float64), tiles, chunk_rows=13)
@@ -80,6 +83,25 @@ def _general_position(pts, ref):
     P = pts * 2.0 ** ref.stats["scale_exponent"]
     face = geometry.faces(P, ref.simplices.astype(np.int64), ref.neighbors.astype(np.int64))
     return len(np.unique(face)) == len(face)
+
+
+def test_a_sealed_tile_keeps_every_vertex_of_a_face_at_its_frontier():
+    """The cocircular face 2-3-6-5 (circle about (3.5, -0.5)) touches the
+    frontier vertex 6 only in its raw triangles 3-5-2 and 6-5-3; its
+    canonical fan from 2 joins 2 to 6, so the tile must keep 2 too."""
+    from lfqt.distributed import geometry
+    P = np.array([(0, 0), (-1, 0), (2, 0), (2, -1), (2, 5), (3, 1), (4, -2)], dtype=np.float64)
+    ref = lfqt.triangulate(P)
+    S, N = ref.simplices.astype(np.int64), ref.neighbors.astype(np.int64)
+    face = geometry.faces(P, S, N)
+    marked = np.zeros(len(P), dtype=bool)
+    marked[6] = True
+    raw = {int(v) for t in S if 6 in t for v in t}
+    assert 2 not in raw  # 2 is no raw neighbour of 6 ...
+    kept = set(np.flatnonzero(geometry.with_face_neighbours(S, marked, face)).tolist())
+    assert kept == raw | {2}  # ... but shares its cocircular face
+    alone = np.arange(len(S))  # every triangle its own face: the raw neighbours exactly
+    assert set(np.flatnonzero(geometry.with_face_neighbours(S, marked, alone)).tolist()) == raw
 
 
 @pytest.mark.parametrize("name,points,tiles", [

@@ -194,11 +194,25 @@ def owned(S, gid, home, frontier, final):
 
 
 @njit(cache=True)
-def with_neighbours(S, marked):
-    """marked, plus every vertex of a triangle with a marked vertex."""
-    out = marked.copy()
+def with_face_neighbours(S, marked, face):
+    """marked, plus every vertex of a face of the Delaunay subdivision
+    (``face[t]``: the root triangle of t's face, ``faces``) that has a
+    marked vertex.  For a face of one triangle these are the vertex's
+    neighbours; a cocircular face is taken whole, since its canonical fan
+    (``canonical``) may join a marked vertex to any of its vertices::
+
+        3 ------ 6*         raw triangles 3-5-2 and 6-5-3: 2 is no
+        |  .   / |          neighbour of the marked 6, but the fan
+        |    /   |          from 2 (the smallest id) cuts the face
+        2 ------ 5          into 2-3-6 and 2-6-5, both at 6.
+    """
+    hit = np.zeros(S.shape[0], dtype=np.bool_)  # by root triangle
     for t in range(S.shape[0]):
         if marked[S[t, 0]] or marked[S[t, 1]] or marked[S[t, 2]]:
+            hit[face[t]] = True
+    out = marked.copy()
+    for t in range(S.shape[0]):
+        if hit[face[t]]:
             for k in range(3):
                 if S[t, k] < len(out):
                     out[S[t, k]] = True

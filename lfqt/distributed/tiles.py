@@ -185,8 +185,9 @@ def _duplicates(tri, gid, n_local):
 def _seal(state, P, gid, home, tri, groups, inside, n_local):
     """After the tile's first full triangulation: the local points whose
     star may still change (``frontier``), the points later rounds need
-    (those and their neighbours: no local edge ever appears later, so the
-    stars of the frontier stay whole), the duplicates, and the owned
+    (those and every vertex of their faces: no local edge ever appears
+    later, so the faces around the frontier stay whole, and a cocircular
+    one is cut alike by every round), the duplicates, and the owned
     triangles of the final faces, which no later round recomputes."""
     S = tri.simplices
     face, order, starts = groups
@@ -195,7 +196,7 @@ def _seal(state, P, gid, home, tri, groups, inside, n_local):
     number[roots] = np.arange(len(roots))
     live = geometry.unsealed(S, number[face], inside, np.asarray(tri.hull, dtype=np.int64),
                              n_local)
-    keep = np.flatnonzero(geometry.with_neighbours(S, live))
+    keep = np.flatnonzero(geometry.with_face_neighbours(S, live, face))
     frontier = np.concatenate((live, np.ones(len(P) - n_local, dtype=bool)))
     interior = geometry.owned(_cut(tri, P, gid, groups), gid, home, frontier, True)
     dup, rep = _duplicates(tri, gid, n_local)
