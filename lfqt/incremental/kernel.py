@@ -683,9 +683,11 @@ def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
     for k in range(width):
         s[k] = perm[pick[k]]
     state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
-    scratch = _new_scratch(256)  # doubled whenever a cavity needs more
+    # np.int64, not a literal: a literal argument would compile the callee
+    # once for it and again for the int64 the loop passes back (numba)
+    scratch = _new_scratch(np.int64(256))  # doubled whenever a cavity needs more
     static = statics(P, d)
-    t = 0
+    t = np.int64(0)
     while True:
         if d == 2:
             t, reason = _insert_range_2d(P, perm, hint, span, static, pick, t, cells, scratch,
