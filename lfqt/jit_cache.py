@@ -7,13 +7,16 @@ and LLVM inlines the callees it sees too): after an edit of
 ``lfqt/predicates/planar.py``, the merge kernel of ``lfqt/dc/merge.py``
 would load its old machine code, with the old predicate inside, and tests and
 benchmarks would run code that is no longer in the tree.  Here every lfqt
-kernel's stamp is that of the whole package (each source's path, time and
-size), so that any edit recompiles them all.  The cache stays where numba
+kernel's stamp is that of the whole package (each source's path and a hash
+of its contents), so that any edit recompiles them all, and a checkout that
+leaves every file as it was (a branch switch and back, a revert) keeps the
+cache, which a stamp of times would throw away.  The cache stays where numba
 puts it (``NUMBA_CACHE_DIR``, else next to the sources, else the user's
 cache directory); kernels outside lfqt are left alone.
 
 Imported by ``lfqt/__init__.py`` before any kernel is defined.
 """
+import hashlib
 import os
 
 from numba.core import caching
@@ -22,15 +25,16 @@ ROOT = os.path.dirname(os.path.abspath(__file__))
 
 
 def tree_stamp(root=ROOT):
-    """The stamp of every ``.py`` file under ``root``: relative path,
-    modification time and size, in a fixed order."""
+    """The stamp of every ``.py`` file under ``root``: relative path and a
+    hash of the contents, in a fixed order (about 1 ms for lfqt)."""
     entries = []
     for dirpath, dirnames, files in os.walk(root):
         dirnames[:] = sorted(d for d in dirnames if d != "__pycache__")
         for name in sorted(f for f in files if f.endswith(".py")):
             path = os.path.join(dirpath, name)
-            st = os.stat(path)
-            entries.append((os.path.relpath(path, root), st.st_mtime_ns, st.st_size))
+            with open(path, "rb") as f:
+                digest = hashlib.blake2b(f.read(), digest_size=16).hexdigest()
+            entries.append((os.path.relpath(path, root), digest))
     return tuple(entries)
 
 

@@ -22,7 +22,9 @@ def test_the_stamp_changes_with_any_source_of_the_tree(tmp_path):
     _write(tmp_path / "__pycache__" / "c.py", "")  # caches and other files do not count
     _write(tmp_path / "notes.txt", "")
     assert jit_cache.tree_stamp(tmp_path) == before
-    _write(tmp_path / "sub" / "b.py", "y = 22\n")
+    os.utime(tmp_path / "a.py", ns=(1, 1))  # a new time, the same contents (a checkout)
+    assert jit_cache.tree_stamp(tmp_path) == before
+    _write(tmp_path / "sub" / "b.py", "y = 3\n")  # the same size
     assert jit_cache.tree_stamp(tmp_path) != before
 
 
