@@ -6,8 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.dc.layout import (edge, keep_prefix, link, link_edges, new_triangles, nxt, origin, prv,
-                             t_dtype, tri, twin)
+from lfqt.dc.layout import edge, link, link_edges, nxt, origin, prv, t_dtype, tri, twin
 
 
 @njit(cache=True)
@@ -60,30 +59,3 @@ def test_t_dtype_holds_the_largest_half_edge_id():
         largest = 4 * (2 * (n - 1) - 1) + 2
         assert np.iinfo(t_dtype(n)).max >= largest
     assert t_dtype(10 ** 6) == np.int32  # small inputs keep the compact layout
-
-
-def _resident_kb(arr):
-    """Resident kB of the mapping that holds arr, from Linux's smaps; None
-    where that is not available."""
-    import re
-    start = arr.__array_interface__["data"][0]
-    try:
-        text = open("/proc/self/smaps").read()
-    except OSError:
-        return None
-    for m in re.finditer(r"^([0-9a-f]+)-([0-9a-f]+) .*?\nRss:\s+(\d+) kB", text, re.M | re.S):
-        lo, hi = int(m.group(1), 16), int(m.group(2), 16)
-        if lo <= start < hi:
-            return int(m.group(3))
-    return None
-
-
-def test_keep_prefix_keeps_the_rows_and_gives_back_the_rest():
-    T = new_triangles(6_000_000, np.int32)
-    T[:] = np.arange(len(T), dtype=np.int32)
-    before = _resident_kb(T)
-    kept = keep_prefix(T, 1_000_003)
-    assert np.array_equal(kept, np.arange(1_000_003, dtype=np.int32))
-    after = _resident_kb(T)
-    if before is not None and after is not None:
-        assert after < before / 2  # 4 MB of 24 MB are still in use

@@ -29,7 +29,6 @@ The merge at split position ``p`` owns triangle slots ``2(p-1)`` and
 ``2(p-1)+1``, so slot ids depend only on the input, never on scheduling.
 Every index goes through the unsigned helpers here (see lfqt.indexing).
 """
-import mmap
 from collections import namedtuple
 
 import numpy as np
@@ -50,33 +49,6 @@ Mesh = namedtuple("Mesh", "P T ghost_out fmt level_filter")
 def t_dtype(n):
     """The dtype of T for n points: its half-edge ids reach 4 * 2(n - 1) + 3."""
     return np.int32 if 8 * n + 8 < 2 ** 31 else np.int64
-
-
-def new_triangles(size, dtype):
-    """T, unwritten, in an anonymous mapping of its own (numpy's allocator
-    for large arrays maps too), so that ``keep_prefix`` can give back the
-    pages that the output no longer needs.  The mapping is private: a shared
-    one (mmap's default) is shmem, which gets no transparent huge pages, and
-    its 4 KiB page faults cost the merge 20-25% on a million points."""
-    nbytes = size * np.dtype(dtype).itemsize
-    if nbytes < 1 << 20:
-        return np.empty(size, dtype=dtype)
-    buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
-    if hasattr(mmap, "MADV_HUGEPAGE"):
-        buf.madvise(mmap.MADV_HUGEPAGE)
-    return np.frombuffer(buf, dtype=dtype)
-
-
-def keep_prefix(T, count):
-    """T[:count], with the whole pages past it handed back to the system
-    where T was mapped by ``new_triangles`` (MADV_DONTNEED: they cost no
-    memory again until written).  Elsewhere the memory is simply kept."""
-    buf = T.base.obj if isinstance(T.base, memoryview) else T.base  # frombuffer's view
-    if isinstance(buf, mmap.mmap) and hasattr(mmap, "MADV_DONTNEED"):
-        start = -(-count * T.itemsize // mmap.PAGESIZE) * mmap.PAGESIZE
-        if start < len(buf):
-            buf.madvise(mmap.MADV_DONTNEED, start, len(buf) - start)
-    return T[:count]
 
 
 @njit(cache=True, inline="always")
