@@ -8,6 +8,8 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
+from lfqt import pages
+
 
 def machine_info():
     """CPU model, caches, cores, library versions, commit."""
@@ -18,6 +20,9 @@ def machine_info():
     info["caches"] = cache_sizes()
     info["transparent_hugepages"] = transparent_hugepages()
     info["free_page_reporting_order"] = free_page_reporting_order()
+    # whether a balloon actually reports (the order exists wherever the kernel could);
+    # lfqt's 3D insertion then keeps off huge pages (lfqt.pages)
+    info["host_takes_free_pages"] = pages.host_takes_free_pages()
     try:
         info["memory_bytes"] = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     except (ValueError, OSError):

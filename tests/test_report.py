@@ -158,4 +158,8 @@ def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
     assert "16 GiB; a VM that hands freed memory back to its host (free page reporting, " \
            "order 9)" in report._machine(report.Results(tmp_path))
+    meta["host_takes_free_pages"] = False  # a kernel that could report, and no balloon that does
+    (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
+    assert report._machine(report.Results(tmp_path)).startswith(
+        "Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
 
