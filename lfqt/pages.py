@@ -3,8 +3,8 @@ with or without transparent huge pages, and the pages past a prefix given
 back.
 
 A huge page (2 MiB) costs one fault where small pages (4 KiB) cost 512, and
-fewer TLB misses afterwards: the divide and conquer's merge runs 7% faster
-on them (1M points, calls back to back).  But on a virtual machine whose
+fewer TLB misses afterwards: the divide and conquer runs 7% faster on them
+(1M points, calls back to back).  But on a virtual machine whose
 balloon hands free memory back to its host (virtio free page reporting, in
 blocks of 2 MiB), a freed huge page goes back to the host about 2 s later,
 and a fresh one then faults on the host too::
@@ -24,6 +24,7 @@ import os
 import numpy as np
 
 SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
+VIRTIO_DEVICES = "/sys/bus/virtio/devices"
 _BALLOON = 0x0005  # virtio device id of the memory balloon
 _REPORTING = 5  # its feature bit VIRTIO_BALLOON_F_REPORTING
 _reporting = None
@@ -63,12 +64,12 @@ def keep_prefix(a, count):
     return a[:count]
 
 
-def host_takes_free_pages(devices="/sys/bus/virtio/devices"):
+def host_takes_free_pages(devices=VIRTIO_DEVICES):
     """Whether a virtio memory balloon of this machine reports free pages
     to its host (its features, bit _REPORTING; read once per process for
-    the default ``devices``)."""
+    VIRTIO_DEVICES)."""
     global _reporting
-    default = devices == "/sys/bus/virtio/devices"
+    default = devices == VIRTIO_DEVICES
     if default and _reporting is not None:
         return _reporting
     found = False

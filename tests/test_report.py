@@ -162,4 +162,3 @@ def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
     assert report._machine(report.Results(tmp_path)).startswith(
         "Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
-
