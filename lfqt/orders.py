@@ -6,8 +6,9 @@ inserted point to start locating from (-1: none).
 
 * ``kdtree``: breadth-first labels of a Kd-tree built by cutting the longest
   edge of each subset's bounding box at the median (O(n) selection per node,
-  O(n log n) in all); hint = parent (paper Appendix I), or the left sibling
-  for right children with ``hint="sibling"``.
+  O(n log n) in all; subtrees of up to PRESORTED points from their points
+  sorted along every axis); hint = parent (paper Appendix I), or the left
+  sibling for right children with ``hint="sibling"``.
 * ``kdtree-alternate``: the same with the cyclic x, y(, z) rule, which the
   paper found slower (ablation).
 * ``hilbert``: CGAL-style median Hilbert sort: split at the median along x,
@@ -26,12 +27,15 @@ For every order but the Kd ones the hint is the point inserted just before.
 by, whatever order inserts them: the Kd-tree's in-order comes free with the
 Kd orders, the Hilbert order with "hilbert", a coarse Hilbert sort otherwise.
 """
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
 from ._input import index_dtype
 from .indexing import random_index, range_seed, u
+from .morton import ordered_bits64
 from .radix import radix_sort_range
 
 ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
@@ -231,6 +235,14 @@ def _sampled_pivot(X, ids, lo, hi, k, axis, off):
 _NO_NAN = {"nnan", "ninf", "nsz"}
 
 
+@njit(cache=True, inline="always")
+def _axis_of(w0, w1, w2):
+    """The axis of the longest of a box's edges w0, w1, w2 (the first among equals)."""
+    if w2 > w0 and w2 > w1:
+        return 2
+    return 1 if w1 > w0 else 0
+
+
 @njit(cache=True, fastmath=_NO_NAN)
 def _longest_axis(X, lo, hi):
     """The axis of the longest edge of the bounding box of rows [lo, hi)
@@ -249,37 +261,164 @@ def _longest_axis(X, lo, hi):
         if d > 2:
             lo2 = min(lo2, X[u(t), 2])
             hi2 = max(hi2, X[u(t), 2])
-    w0, w1, w2 = hi0 - lo0, hi1 - lo1, hi2 - lo2
-    if w2 > w0 and w2 > w1:
-        return 2
-    return 1 if w1 > w0 else 0
+    return _axis_of(hi0 - lo0, hi1 - lo1, hi2 - lo2)
 
 
-_SORTED = 8  # Kd-tree nodes this small are insertion-sorted, which selects their median
+# Kd subtrees of at most this many points are built from their points sorted
+# along every axis (_presorted_subtree), larger nodes by selection.  Measured
+# on 1M uniform points, the whole in-order: 143 -> 95 ms in 2D and 163 -> 150
+# ms in 3D at 2**14; 2**10, 2**12 and 2**16 were slower (2**16 no longer stays
+# in a core's cache).
+PRESORTED = 1 << 14
+
+# _presorted_subtree's arrays, for subtrees of up to ``size`` points:
+# keys, key_buf, perm_buf: a radix sort's; lists (2, d, size + 1): every
+# node's list along each axis, in one of two buffers; rank (d, size): each
+# point's place in the subtree's sorted list along each axis; out: the
+# in-order; rows, row_ids: the rows in it; stack: pending nodes.
+Presorted = namedtuple("Presorted", "keys key_buf perm_buf lists rank out rows row_ids stack")
 
 
-@njit(cache=True, inline="always")
-def _insertion_sort(X, ids, lo, hi, axis):
-    """Sort rows [lo, hi) by X[:, axis], ties by id."""
-    for i in range(lo + 1, hi):
-        j = i
-        while j > lo and _before(X, ids, j, axis, X[u(j - 1), axis], ids[u(j - 1)]):
-            _swap_rows(X, ids, j, j - 1)
-            j -= 1
+@njit(cache=True)
+def _presorted_arrays(size, d, ids_dtype):
+    return Presorted(np.empty(size, dtype=np.uint64), np.empty(size, dtype=np.uint64),
+                     np.empty(size, dtype=np.int32), np.empty((2, d, size + 1), dtype=np.int32),
+                     np.empty((d, size), dtype=np.int32), np.empty(size, dtype=np.int32),
+                     np.empty((size, d)), np.empty(size, dtype=ids_dtype),
+                     np.empty((4, 66), dtype=np.int64))
+
+
+@njit(cache=True)
+def _sorted_lists(X, ids, lo0, s, ws):
+    """ws.lists[0, a]: the points lo0 + k, k < s, as their k, sorted along
+    axis a by value, equal values by id (the order of _before); ws.rank[a]:
+    each k's place in that list.  A radix sort of the values'
+    order-preserving bits (-0.0 like 0.0), stable, then the rare runs of
+    equal values insertion-sorted by id."""
+    d = X.shape[1]
+    keys = ws.keys
+    for a in range(d):
+        L = ws.lists[0, a]
+        for k in range(s):
+            keys[k] = ordered_bits64(np.float64(X[u(lo0 + k), a]).view(np.uint64))
+            L[k] = k
+        radix_sort_range(keys, L, 0, s, ws.key_buf, ws.perm_buf)
+        k = 0
+        while k < s:
+            e = k + 1
+            while e < s and keys[e] == keys[k]:
+                e += 1
+            for i in range(k + 1, e):
+                v = L[i]
+                j = i
+                while j > k and ids[u(lo0 + L[j - 1])] > ids[u(lo0 + v)]:
+                    L[j] = L[j - 1]
+                    j -= 1
+                L[j] = v
+            k = e
+        R = ws.rank[a]
+        for k in range(s):
+            R[L[k]] = k
+
+
+@njit(cache=True)
+def _presorted_subtree(X, ids, lo0, hi0, depth0, alternate, ws):
+    """_kdtree_inorder's work for the subtree of rows [lo0, hi0) at depth
+    depth0, from the lists of its points sorted along each axis
+    (_sorted_lists).  A node's bounding box is its lists' ends, its median
+    the middle of its axis's list, and its children's lists along that axis
+    the halves as they stand; along every other axis its list is split by
+    each point's rank along the cut axis, stably, so that each half stays
+    sorted, into the other of two buffers::
+
+        cut axis a    [ 3 7 1 | 5 | 0 6 2 ]          (ranks along a: 0 .. 6)
+        axis b        [ 0 7 5 3 6 1 2 ]  ->  [ 7 3 1 | . | 0 6 2 ]
+
+    A level then moves d - 1 lists, without a comparison that can go either
+    way at random, where a selection compares and swaps rows about 2.5
+    times over.  Bit a of a node's ``where`` tells which buffer holds its
+    list along axis a.  The rows are put in in-order once, at the end."""
+    s = hi0 - lo0
+    d = X.shape[1]
+    _sorted_lists(X, ids, lo0, s, ws)
+    lists, rank, out, stack = ws.lists, ws.rank, ws.out, ws.stack
+    top = 1
+    stack[0, 0], stack[1, 0], stack[2, 0], stack[3, 0] = 0, s, 0, 0
+    while top > 0:
+        top -= 1
+        lo, hi, t, where = stack[0, top], stack[1, top], stack[2, top], stack[3, top]
+        if alternate:
+            axis = (depth0 + t) % d
+        else:
+            L0 = lists[where & 1, 0]
+            L1 = lists[(where >> 1) & 1, 1]
+            w0 = X[u(lo0 + L0[hi - 1]), 0] - X[u(lo0 + L0[lo]), 0]
+            w1 = X[u(lo0 + L1[hi - 1]), 1] - X[u(lo0 + L1[lo]), 1]
+            w2 = 0.0
+            if d > 2:
+                L2 = lists[(where >> 2) & 1, 2]
+                w2 = X[u(lo0 + L2[hi - 1]), 2] - X[u(lo0 + L2[lo]), 2]
+            axis = _axis_of(w0, w1, w2)
+        m = lo + (hi - lo) // 2
+        A = lists[(where >> axis) & 1, axis]
+        out[m] = A[m]
+        if m - lo == 1:  # a child of one point is that point
+            out[lo] = A[lo]
+        if hi - m == 2:
+            out[hi - 1] = A[hi - 1]
+        if hi - lo < 4:  # no child of two points or more
+            continue
+        R = rank[axis]
+        r_median = R[A[m]]
+        for b in range(d):
+            if b == axis:
+                continue
+            src = lists[(where >> b) & 1, b]
+            dst = lists[1 - ((where >> b) & 1), b]
+            left = lo
+            right = m + 1
+            for k in range(lo, hi):
+                v = src[k]
+                r = R[v]
+                # written to both halves, kept in one: no branch.  Past
+                # either half's end lies the median's place or, at most,
+                # the list's spare last entry, which no node reads
+                dst[left] = v
+                dst[right] = v
+                left += r < r_median
+                right += r > r_median
+        children = where ^ (((1 << d) - 1) ^ (1 << axis))
+        if hi - m > 2:
+            stack[0, top], stack[1, top], stack[2, top], stack[3, top] = m + 1, hi, t + 1, children
+            top += 1
+        if m - lo > 1:
+            stack[0, top], stack[1, top], stack[2, top], stack[3, top] = lo, m, t + 1, children
+            top += 1
+    rows, row_ids = ws.rows, ws.row_ids
+    for k in range(s):
+        for a in range(d):
+            rows[k, a] = X[u(lo0 + out[k]), a]
+        row_ids[k] = ids[u(lo0 + out[k])]
+    for k in range(s):
+        for a in range(d):
+            X[u(lo0 + k), a] = rows[k, a]
+        ids[u(lo0 + k)] = row_ids[k]
 
 
 @njit(cache=True, nogil=True)
-def _kdtree_inorder(X, ids, alternate):
+def _kdtree_inorder(X, ids, alternate, presorted):
     """Every selection of the Kd-tree on rows of X (kept in step with ids),
     depth first: each node's rows [lo, hi) split at their median
     lo + (hi - lo) // 2 along its axis, and then its children's.  The
     tree's shape follows from n alone, so the order of the selections is
     free: depth first, a node's rows are still in cache for its children,
-    and a small node is done in one insertion sort, where half the nodes of
-    a tree hold one or two points and a selection's call cost dominates
-    them.  A stack of pending nodes never holds more than the depth + 1."""
+    and a subtree of at most ``presorted`` points is built whole from its
+    points sorted along every axis (_presorted_subtree; 0: every node by
+    selection).  A stack of pending nodes never holds more than the depth
+    + 1."""
     n, d = X.shape
     off = np.empty(2 * _BLOCK, dtype=np.int64)
+    ws = _presorted_arrays(min(presorted, n), d, ids.dtype)
     s_lo = np.empty(66, dtype=np.int64)
     s_hi = np.empty(66, dtype=np.int64)
     s_depth = np.empty(66, dtype=np.int64)
@@ -290,12 +429,12 @@ def _kdtree_inorder(X, ids, alternate):
     while top > 0:
         top -= 1
         lo, hi, depth = s_lo[top], s_hi[top], s_depth[top]
+        if hi - lo <= presorted:
+            _presorted_subtree(X, ids, lo, hi, depth, alternate, ws)
+            continue
         axis = depth % d if alternate else _longest_axis(X, lo, hi)
         m = lo + (hi - lo) // 2
-        if hi - lo <= _SORTED:
-            _insertion_sort(X, ids, lo, hi, axis)
-        else:
-            _select_axis(X, ids, lo, hi, m, axis, off)
+        _select_axis(X, ids, lo, hi, m, axis, off)
         if hi - m - 1 > 1:
             s_lo[top], s_hi[top], s_depth[top] = m + 1, hi, depth + 1
             top += 1
@@ -304,7 +443,7 @@ def _kdtree_inorder(X, ids, alternate):
             top += 1
 
 
-def kdtree_order(P, alternate, sibling):
+def kdtree_order(P, alternate, sibling, presorted=PRESORTED):
     """(perm, hint, inorder, P[inorder]): the breadth-first labels and
     their hints, the ids as the median selections leave them
     (_kdtree_inorder), the tree's in-order: every subtree a contiguous range
@@ -315,18 +454,20 @@ def kdtree_order(P, alternate, sibling):
 
     and the rows of P in that order, as the selections leave them too.
     numpy allocates the arrays (on huge pages: see
-    lfqt.incremental.kernel.insert_all)."""
+    lfqt.incremental.kernel.insert_all).  ``presorted``: the size of the
+    subtrees built from sorted lists (_kdtree_inorder); the tree is the same
+    whatever it is."""
     n = len(P)
     ids, X = np.arange(n, dtype=index_dtype(n)), P.copy()
     perm, hint, q_lo, q_hi = (np.empty(n, dtype=np.int64) for _ in range(4))
-    _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling)
+    _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling, presorted)
     return perm, hint, ids, X
 
 
 @njit(cache=True, nogil=True)
-def _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling):
+def _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling, presorted):
     n = X.shape[0]
-    _kdtree_inorder(X, ids, alternate)
+    _kdtree_inorder(X, ids, alternate, presorted)
     # Breadth-first queue of ranges; a node's label is its queue slot.  Its
     # point, and its left sibling's, are medians of known ranges of the
     # in-order, so a child's hint is written when it is queued.

@@ -60,6 +60,23 @@ def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rn
     assert [p for _, p in labels] == hint.tolist()
 
 
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("alternate", [False, True])
+@pytest.mark.parametrize("kind", ["uniform", "ties", "signed zeros", "one point", "line"])
+def test_presorted_subtrees_build_the_tree_that_selection_builds(kind, alternate, d, rng):
+    # the same tree by selection alone (0), from sorted lists alone (n), or
+    # both (the lists below 2, 3 or 64 points): ties by id, -0.0 equal to 0.0
+    n = 3000
+    pts = {"uniform": rng.random((n, d)), "ties": rng.integers(0, 4, (n, d)).astype(float),
+           "signed zeros": rng.choice([-0.0, 0.0, 1.0, -1.0], (n, d)),
+           "one point": np.full((n, d), 0.5),
+           "line": np.c_[rng.random(n), np.zeros((n, d - 1))]}[kind]
+    trees = [orders.kdtree_order(pts, alternate, False, presorted=k) for k in (0, 2, 3, 64, n)]
+    for perm, hint, ids, X in trees[1:]:
+        assert np.array_equal(perm, trees[0][0]) and np.array_equal(hint, trees[0][1])
+        assert np.array_equal(ids, trees[0][2]) and np.array_equal(X, pts[ids])
+
+
 @pytest.mark.parametrize("budget", [0, 1, 3, -1])
 @pytest.mark.parametrize("kind", ["uniform", "ties", "organ pipe", "sorted", "periodic"])
 @pytest.mark.parametrize("n, k", [(2500, 1234), (3 * orders._SAMPLED, 200),
