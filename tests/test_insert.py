@@ -133,6 +133,24 @@ def test_more_cells_than_int32_ids_allow_is_a_clear_error():
         insert_all(P3, 3, perm, hint, 16.0, 8, full - 1)
 
 
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("n", [300, 60_000])  # records on numpy's memory, then on a mapping
+def test_output_written_over_the_records_is_the_output_beside_them(d, n):
+    rng = np.random.default_rng(d)
+    P = rng.random((n, d))
+    perm, hint = np.arange(n), np.full(n, -1)
+    run = insert_all(P, d, perm, hint, 1.0)
+    assert run.records is not None and run.ok
+    ids = rng.permutation(n)
+    beside = finite_cells(run.C, run.N, run.alive, ids)
+    over = finite_cells(run.C, run.N, run.alive, ids, run.records)
+    assert np.shares_memory(over[0], run.records)
+    for a, b in zip(beside, over):
+        assert np.array_equal(a, b)
+    # and it is the Delaunay triangulation (unique for random points): Qhull's
+    assert cells(np.argsort(ids)[over[0]]) == cells(scipy.spatial.Delaunay(P).simplices)
+
+
 def test_growth_paths_give_the_same_mesh():
     pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]  # centre: a huge cavity
     P3 = exact_points3(pts)
@@ -140,6 +158,7 @@ def test_growth_paths_give_the_same_mesh():
     hint = np.full(len(pts), -1)
     small = insert_all(P3, 3, perm, hint, 16.0, 8)  # tiny cell storage, grows many times
     big = insert_all(P3, 3, perm, hint, 16.0, 0)
+    assert small.records is None and big.records is not None  # grown past them, or not
     ids = np.arange(len(pts))
     s_small, _, _ = finite_cells(small[0], small[1], small[2], ids)
     s_big, _, _ = finite_cells(big[0], big[1], big[2], ids)

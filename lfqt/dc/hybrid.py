@@ -109,8 +109,8 @@ def insert_bin(state, lo, hi, order, counts, part):
         t0 = time.perf_counter()
         perm, hints = orders.order(P, order)
         t_order = time.perf_counter() - t0
-        C, N, alive, _, _, cnt, ok = insertion.insert_all(P, 2, perm, hints,
-                                                          insertion.coordinate_span(P))
+        C, N, alive, _, _, cnt, ok, _ = insertion.insert_all(P, 2, perm, hints,
+                                                             insertion.coordinate_span(P))
         if ok:
             p = ops[ops >= 0]
             slots = np.sort(np.concatenate((2 * (p - 1), 2 * (p - 1) + 1)))

@@ -152,6 +152,10 @@ def _initial_simplex(P, d, perm):
 # (the depth-first search), conflicts, bcell/bface (cavity-boundary facets)
 # and the ridge hash table (3D).
 Cells = namedtuple("Cells", "C N mark vcell free")
+# insert_all's result: the live and dead cells' rows C and N, alive, their
+# count, dup_of, counts, ok, and the records that C and N are views of (None
+# once the storage grew past them): finite_cells writes over them
+Insertion = namedtuple("Insertion", "C N alive ncells dup_of counts ok records")
 Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface hkeys hvals hstamps")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
@@ -660,8 +664,9 @@ def huge_pages(d):
 
 
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
-    """Insert P[perm] one by one; returns (C, N, alive, ncells, dup_of,
-    counts, ok).  ok is False when the points span fewer than d dimensions.
+    """Insert P[perm] one by one; returns an Insertion (C, N, alive, ncells,
+    dup_of, counts, ok, records).  ok is False when the points span fewer
+    than d dimensions.
     Raises ValueError when the triangulation needs more than ``max_cells``
     cells (a 3D Delaunay triangulation may have quadratically many).
     ``capacity``: the cells to start with (CELLS_PER_POINT per point by
@@ -678,9 +683,11 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     huge = huge_pages(d)
     vcell = pages.empty(n, np.int32, huge)
     vcell.fill(-1)
-    cells = Cells(*_records(pages.empty(_record_shape(cap, d + 1), np.int32, huge), d + 1),
-                  vcell, pages.empty(cap, np.int32, huge))
-    return _insert_all(P, d, perm, hint, span, cells, np.arange(n), max_cells, timing)
+    records = pages.empty(_record_shape(cap, d + 1), np.int32, huge)
+    cells = Cells(*_records(records, d + 1), vcell, pages.empty(cap, np.int32, huge))
+    C, *rest = _insert_all(P, d, perm, hint, span, cells, np.arange(n), max_cells, timing)
+    grown = C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
+    return Insertion(C, *rest, None if grown else records)
 
 
 @njit(cache=True, nogil=True)
@@ -721,21 +728,40 @@ def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
     return cells.C[:m], cells.N[:m], cells.mark[:m] != DEAD, m, dup_of, counts, True
 
 
-def finite_cells(C, N, alive, ids):
-    """(simplices, neighbors, infinite) of the live cells: the finite ones
+def finite_cells(C, N, alive, ids, records=None):
+    """(simplices, neighbors, facets) of the live cells: the finite ones
     with vertices mapped through ``ids``, neighbours renumbered, -1 across
-    the hull, and the ids of the infinite ones (for hull_facets).  A cell's
-    new id is its rank in a bitmap of the finite cells (lfqt.indexing.rank):
-    the neighbours point anywhere in C, and a bit per cell plus a count per
-    64 stay in cache where an id per cell would not."""
+    the hull, and the hull's facets, oriented outward, one per infinite
+    cell (2D: edges, which the caller chains into a loop).  A cell's new id
+    is its rank in a bitmap of the finite cells (lfqt.indexing.rank): the
+    neighbours point anywhere in C, and a bit per cell plus a count per 64
+    stay in cache where an id per cell would not.
+
+    With ``records``, the array that C and N are rows of (insert_all's),
+    the simplices are written over its first bytes, and its pages past them
+    given back (lfqt.pages.keep_prefix).  The pass reads each cell's record
+    before any simplex row lands on it: row j of the simplices, j <= c,
+    ends at byte 4 * width * (j + 1), at most where record c starts,
+    4 * (2 * width + 1) * c, from c = 1 on, and row 0 writes only cell 0's
+    own vertices, each after reading it::
+
+        records    | cell 0        | cell 1        | cell 2        | ...
+        simplices  | 0   | 1   | 2   | ...   (1M points, 3D: 104 MB not faulted in)
+    """
     bits, first, finite, live = _finite_bitmap(C, alive)
     width = C.shape[1]
     huge = huge_pages(width - 1)
-    simplices = pages.empty((finite, width), np.int32, huge)
     neighbors = pages.empty((finite, width), np.int32, huge)
-    infinite = np.empty(live - finite, dtype=np.int64)
-    _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite)
-    return simplices, neighbors, infinite
+    facets = np.empty((live - finite, width - 1), dtype=np.int64)
+    if records is None:
+        simplices = pages.empty((finite, width), np.int32, huge)
+    else:
+        flat = records.reshape(-1)
+        simplices = flat[:finite * width].reshape(finite, width)
+    _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, facets)
+    if records is not None:
+        simplices = pages.keep_prefix(flat, finite * width).reshape(finite, width)
+    return simplices, neighbors, facets
 
 
 @njit(cache=True)
@@ -771,7 +797,7 @@ OUTPUT_AHEAD = 32
 
 
 @njit(cache=True)
-def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite):
+def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, facets):
     m, width = C.shape
     j = 0
     n_inf = 0
@@ -781,7 +807,7 @@ def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite)
         prefetch(ids, np.int64(C[u(ahead), 1]))
         if not bit(bits, c):
             if alive[u(c)]:
-                infinite[u(n_inf)] = c
+                _hull_facet(C, c, ids, facets, n_inf)
                 n_inf += 1
             continue
         for i in range(width):
@@ -791,23 +817,17 @@ def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, infinite)
         j += 1
 
 
-@njit(cache=True)
-def hull_facets(C, infinite, ids):
-    """Hull facets (2D: edges as a counter-clockwise loop is built by the
-    caller) of the infinite cells ``infinite`` (finite_cells'), oriented
-    outward."""
+@njit(cache=True, inline="always")
+def _hull_facet(C, c, ids, facets, k):
+    """facets[k]: the hull facet of infinite cell c, oriented outward."""
     width = C.shape[1]
-    out = np.empty((infinite.shape[0], width - 1), dtype=np.int64)
-    for k in range(infinite.shape[0]):
-        c = infinite[k]
-        f = _infinite_slot(C, width, c)
-        # the infinite cell with INF -> beyond-point is positive: its facet,
-        # in cyclic order after f, faces outward
-        for j in range(width - 1):
-            out[k, j] = ids[C[c, (f + 1 + j) % width]]
-        if width == 4 and f % 2 == 0:
-            # rotating a 4-tuple by f+1 places is odd when f is even
-            t = out[k, 0]
-            out[k, 0] = out[k, 1]
-            out[k, 1] = t
-    return out
+    f = _infinite_slot(C, width, c)
+    # the infinite cell with INF -> beyond-point is positive: its facet,
+    # in cyclic order after f, faces outward
+    for j in range(width - 1):
+        facets[k, j] = ids[C[c, (f + 1 + j) % width]]
+    if width == 4 and f % 2 == 0:
+        # rotating a 4-tuple by f+1 places is odd when f is even
+        t = facets[k, 0]
+        facets[k, 0] = facets[k, 1]
+        facets[k, 1] = t
