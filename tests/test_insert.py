@@ -142,8 +142,8 @@ def test_output_written_over_the_records_is_the_output_beside_them(d, n):
     run = insert_all(P, d, perm, hint, 1.0)
     assert run.records is not None and run.ok
     ids = rng.permutation(n)
-    beside = finite_cells(run.C, run.N, run.alive, ids)
-    over = finite_cells(run.C, run.N, run.alive, ids, run.records)
+    beside = finite_cells(run.C, run.N, run.mark, ids)
+    over = finite_cells(run.C, run.N, run.mark, ids, run.records)
     assert np.shares_memory(over[0], run.records)
     for a, b in zip(beside, over):
         assert np.array_equal(a, b)

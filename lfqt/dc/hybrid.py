@@ -35,8 +35,8 @@ ORDERS = ("hilbert", "kdtree")
 
 
 @njit(cache=True, nogil=True)
-def fill_bin(C, N, alive, ids, slots, P, T, ghost_out, part):
-    """Write the live cells of a 2D insertion (C, N, alive; vertex k of the
+def fill_bin(C, N, mark, ids, slots, P, T, ghost_out, part):
+    """Write the live cells of a 2D insertion (C, N, mark; vertex k of the
     insertion is point ids[k]) into triangle ``slots`` of T, set ghost_out of
     the hull vertices and the partition row ``part``.  Returns False when
     the cell count does not match the slots (never for a valid bin)."""
@@ -45,7 +45,7 @@ def fill_bin(C, N, alive, ids, slots, P, T, ghost_out, part):
     rot = np.zeros(m, dtype=np.int64)  # T index i is C index (i + rot) % 3
     k = 0
     for c in range(m):
-        if not alive[c]:
+        if mark[c] == insertion.DEAD:
             continue
         if k == slots.shape[0]:
             return False
@@ -109,16 +109,16 @@ def insert_bin(state, lo, hi, order, counts, part):
         t0 = time.perf_counter()
         perm, hints = orders.order(P, order)
         t_order = time.perf_counter() - t0
-        C, N, alive, _, _, cnt, ok, _ = insertion.insert_all(P, 2, perm, hints,
+        C, N, mark, _, _, cnt, ok, _ = insertion.insert_all(P, 2, perm, hints,
                                                              insertion.coordinate_span(P))
         if ok:
             p = ops[ops >= 0]
             slots = np.sort(np.concatenate((2 * (p - 1), 2 * (p - 1) + 1)))
-            if fill_bin(C, N, alive, ids.astype(np.int64), slots, state.mesh.P, state.mesh.T,
+            if fill_bin(C, N, mark, ids.astype(np.int64), slots, state.mesh.P, state.mesh.T,
                         state.mesh.ghost_out, part[0]):
                 counts += cnt[:N_PREDICATE]
                 return t_order
-            raise RuntimeError(f"bin [{lo}, {hi}): {int(alive.sum())} cells for {len(slots)} "
+            raise RuntimeError(f"bin [{lo}, {hi}): {int((mark != insertion.DEAD).sum())} cells for {len(slots)} "
                                "slots")
     state.merge(2 * lo, end, counts, part, 0, part)
     return t_order

@@ -68,15 +68,15 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     # whatever the insertion order (the Kd order jumps across space at every
     # level).
     kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
-    C, N, alive, ncells, dup_rank, cnt, ok, records = kernel.insert_all(
+    C, N, mark, ncells, dup_rank, cnt, ok, records = kernel.insert_all(
         stored, d, perm, hints, span, timing=phase_times)
     duplicates = int(cnt[DUPLICATES])  # points found equal to one inserted before
     dup_of = kernel.duplicate_of(store, dup_rank) if duplicates else None
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
-        simplices, neighbors, facets = kernel.finite_cells(C, N, alive, store, records)
-        del C, N, records  # the simplices now stand where the cells were
+        simplices, neighbors, facets = kernel.finite_cells(C, N, mark, store, records)
+        del C, N, mark, records  # the simplices now stand where the cells were
         hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
         if duplicates:
             simplices, hull, dup_of = _first_of_duplicates(simplices, hull, dup_of)

@@ -152,10 +152,11 @@ def _initial_simplex(P, d, perm):
 # (the depth-first search), conflicts, bcell/bface (cavity-boundary facets)
 # and the ridge hash table (3D).
 Cells = namedtuple("Cells", "C N mark vcell free")
-# insert_all's result: the live and dead cells' rows C and N, alive, their
-# count, dup_of, counts, ok, and the records that C and N are views of (None
-# once the storage grew past them): finite_cells writes over them
-Insertion = namedtuple("Insertion", "C N alive ncells dup_of counts ok records")
+# insert_all's result: the live and dead cells' rows C and N and marks (DEAD
+# for a freed cell), their count, dup_of, counts, ok, and the records that
+# they are views of (None once the storage grew past them): finite_cells
+# writes over them
+Insertion = namedtuple("Insertion", "C N mark ncells dup_of counts ok records")
 Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface hkeys hvals hstamps")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
@@ -664,7 +665,7 @@ def huge_pages(d):
 
 
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
-    """Insert P[perm] one by one; returns an Insertion (C, N, alive, ncells,
+    """Insert P[perm] one by one; returns an Insertion (C, N, mark, ncells,
     dup_of, counts, ok, records).  ok is False when the points span fewer
     than d dimensions.
     Raises ValueError when the triangulation needs more than ``max_cells``
@@ -698,7 +699,7 @@ def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
     width = d + 1
     pick = _initial_simplex(P, d, perm)
     if pick[0] < 0 or pick[d] < 0:
-        return cells.C[:0], cells.N[:0], cells.mark[:0] != DEAD, 0, dup_of, counts, False
+        return cells.C[:0], cells.N[:0], cells.mark[:0], 0, dup_of, counts, False
     s = np.empty(width, dtype=np.int64)
     for k in range(width):
         s[k] = perm[pick[k]]
@@ -725,11 +726,12 @@ def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
         else:
             scratch = _new_scratch(2 * scratch.stack.shape[0])
     m = state[NCELLS]
-    return cells.C[:m], cells.N[:m], cells.mark[:m] != DEAD, m, dup_of, counts, True
+    return cells.C[:m], cells.N[:m], cells.mark[:m], m, dup_of, counts, True
 
 
-def finite_cells(C, N, alive, ids, records=None):
-    """(simplices, neighbors, facets) of the live cells: the finite ones
+def finite_cells(C, N, mark, ids, records=None):
+    """(simplices, neighbors, facets) of the live cells (``mark`` not
+    DEAD): the finite ones
     with vertices mapped through ``ids``, neighbours renumbered, -1 across
     the hull, and the hull's facets, oriented outward, one per infinite
     cell (2D: edges, which the caller chains into a loop).  A cell's new id
@@ -748,7 +750,7 @@ def finite_cells(C, N, alive, ids, records=None):
         records    | cell 0        | cell 1        | cell 2        | ...
         simplices  | 0   | 1   | 2   | ...   (1M points, 3D: 104 MB not faulted in)
     """
-    bits, first, finite, live = _finite_bitmap(C, alive)
+    bits, first, finite, live = _finite_bitmap(C, mark)
     width = C.shape[1]
     huge = huge_pages(width - 1)
     neighbors = pages.empty((finite, width), np.int32, huge)
@@ -758,16 +760,20 @@ def finite_cells(C, N, alive, ids, records=None):
     else:
         flat = records.reshape(-1)
         simplices = flat[:finite * width].reshape(finite, width)
-    _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, facets)
+    _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets)
     if records is not None:
         simplices = pages.keep_prefix(flat, finite * width).reshape(finite, width)
     return simplices, neighbors, facets
 
 
 @njit(cache=True)
-def _finite_bitmap(C, alive):
+def _finite_bitmap(C, mark):
     """(bits, first, finite, live): a bit per cell, set for the live finite
-    ones, the finite cells before each word of 64, and the counts."""
+    ones, the finite cells before each word of 64, and the counts.  One
+    pass over the records, without a branch: a cell is finite when no
+    vertex is INF (-1), that is, when the OR of its vertices is not
+    negative (1M points, 3D: 90 ms for the marks and the bits in two
+    passes, with a test per vertex; 30 ms so)."""
     m = C.shape[0]
     width = C.shape[1]
     nwords = (m + 63) >> 6
@@ -778,13 +784,14 @@ def _finite_bitmap(C, alive):
     for w in range(nwords):
         word = np.uint64(0)
         for c in range(64 * w, min(64 * w + 64, m)):
-            finite = alive[c]
-            live += finite
-            for i in range(width):
-                finite &= C[c, i] >= 0
-            word |= np.uint64(finite) << np.uint64(c & 63)
-        bits[w] = word
-        first[w] = k
+            alive = np.int64(mark[u(c)] != DEAD)
+            vertices = C[u(c), 0] | C[u(c), 1] | C[u(c), 2]
+            if width == 4:
+                vertices |= C[u(c), 3]
+            live += alive
+            word |= np.uint64(alive & np.int64(vertices >= 0)) << np.uint64(c & 63)
+        bits[u(w)] = word
+        first[u(w)] = k
         k += popcount(word)
     return bits, first, k, live
 
@@ -797,7 +804,7 @@ OUTPUT_AHEAD = 32
 
 
 @njit(cache=True)
-def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, facets):
+def _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets):
     m, width = C.shape
     j = 0
     n_inf = 0
@@ -806,7 +813,7 @@ def _finite_cells(C, N, alive, ids, bits, first, simplices, neighbors, facets):
         prefetch(ids, np.int64(C[u(ahead), 0]))  # a hint: INF (-1) does no harm
         prefetch(ids, np.int64(C[u(ahead), 1]))
         if not bit(bits, c):
-            if alive[u(c)]:
+            if mark[u(c)] != DEAD:
                 _hull_facet(C, c, ids, facets, n_inf)
                 n_inf += 1
             continue
