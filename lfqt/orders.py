@@ -270,6 +270,7 @@ def _longest_axis(X, lo, hi):
 # ms in 3D at 2**14; 2**10, 2**12 and 2**16 were slower (2**16 no longer stays
 # in a core's cache).
 PRESORTED = 1 << 14
+_KEY_BITS = 32  # of the coordinates' varying bits, sorted by radix (_sorted_lists)
 
 # _presorted_subtree's arrays, for subtrees of up to ``size`` points:
 # keys, key_buf, perm_buf: a radix sort's; lists (2, d, size + 1): every
@@ -292,16 +293,27 @@ def _presorted_arrays(size, d, ids_dtype):
 def _sorted_lists(X, ids, lo0, s, ws):
     """ws.lists[0, a]: the points lo0 + k, k < s, as their k, sorted along
     axis a by value, equal values by id (the order of _before); ws.rank[a]:
-    each k's place in that list.  A radix sort of the values'
-    order-preserving bits (-0.0 like 0.0), stable, then the rare runs of
-    equal values insertion-sorted by id."""
+    each k's place in that list.  A radix sort, stable, of the values'
+    order-preserving bits (-0.0 like 0.0) cut to the highest _KEY_BITS
+    that vary among them, then the rare runs of equal keys insertion-sorted
+    by value and id.  (A subtree of 2**14 uniform points: 4 scatters per
+    axis instead of 6 to 8; 1M points, the in-order 86 -> 78 ms in 2D, 129
+    -> 119 ms in 3D.)"""
     d = X.shape[1]
     keys = ws.keys
     for a in range(d):
         L = ws.lists[0, a]
+        first = ordered_bits64(np.float64(X[u(lo0), a]).view(np.uint64))
+        differ = np.uint64(0)
         for k in range(s):
             keys[k] = ordered_bits64(np.float64(X[u(lo0 + k), a]).view(np.uint64))
+            differ |= keys[k] ^ first
             L[k] = k
+        varying = 64 - leading_zeros(differ) if differ else 0
+        if varying > _KEY_BITS:
+            cut = np.uint64(varying - _KEY_BITS)
+            for k in range(s):
+                keys[k] >>= cut
         radix_sort_range(keys, L, 0, s, ws.key_buf, ws.perm_buf)
         k = 0
         while k < s:
@@ -310,8 +322,9 @@ def _sorted_lists(X, ids, lo0, s, ws):
                 e += 1
             for i in range(k + 1, e):
                 v = L[i]
+                value, id_ = X[u(lo0 + v), a], ids[u(lo0 + v)]
                 j = i
-                while j > k and ids[u(lo0 + L[j - 1])] > ids[u(lo0 + v)]:
+                while j > k and not _before(X, ids, lo0 + L[j - 1], a, value, id_):
                     L[j] = L[j - 1]
                     j -= 1
                 L[j] = v

@@ -62,12 +62,15 @@ def test_kdtree_splits_every_range_at_its_median_on_its_longest_edge(kind, d, rn
 
 @pytest.mark.parametrize("d", [2, 3])
 @pytest.mark.parametrize("alternate", [False, True])
-@pytest.mark.parametrize("kind", ["uniform", "ties", "signed zeros", "one point", "line"])
+@pytest.mark.parametrize("kind", ["uniform", "ties", "near ties", "signed zeros", "one point",
+                                  "line"])
 def test_presorted_subtrees_build_the_tree_that_selection_builds(kind, alternate, d, rng):
     # the same tree by selection alone (0), from sorted lists alone (n), or
-    # both (the lists below 2, 3 or 64 points): ties by id, -0.0 equal to 0.0
+    # both (the lists below 2, 3 or 64 points): ties by id, -0.0 equal to 0.0,
+    # and values apart only below the bits that the lists' radix sort keeps
     n = 3000
     pts = {"uniform": rng.random((n, d)), "ties": rng.integers(0, 4, (n, d)).astype(float),
+           "near ties": rng.integers(0, 50, (n, d)) + rng.integers(0, 3, (n, d)) * 2.0 ** -40,
            "signed zeros": rng.choice([-0.0, 0.0, 1.0, -1.0], (n, d)),
            "one point": np.full((n, d), 0.5),
            "line": np.c_[rng.random(n), np.zeros((n, d - 1))]}[kind]
