@@ -118,7 +118,8 @@ def insert_bin(state, lo, hi, order, counts, part):
                         state.mesh.ghost_out, part[0]):
                 counts += cnt[:N_PREDICATE]
                 return t_order
-            raise RuntimeError(f"bin [{lo}, {hi}): {int((mark != insertion.DEAD).sum())} cells for {len(slots)} "
+            live = int((mark != insertion.DEAD).sum())
+            raise RuntimeError(f"bin [{lo}, {hi}): {live} cells for {len(slots)} "
                                "slots")
     state.merge(2 * lo, end, counts, part, 0, part)
     return t_order

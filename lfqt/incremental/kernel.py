@@ -731,10 +731,10 @@ def _insert_all(P, d, perm, hint, span, cells, dup_of, max_cells, timing):
 
 def finite_cells(C, N, mark, ids, records=None):
     """(simplices, neighbors, facets) of the live cells (``mark`` not
-    DEAD): the finite ones
-    with vertices mapped through ``ids``, neighbours renumbered, -1 across
-    the hull, and the hull's facets, oriented outward, one per infinite
-    cell (2D: edges, which the caller chains into a loop).  A cell's new id
+    DEAD): the finite ones with vertices mapped through ``ids``, neighbours
+    renumbered, -1 across the hull, and the hull's facets, oriented
+    outward, one per infinite cell (2D: edges, which the caller chains into
+    a loop).  A cell's new id
     is its rank in a bitmap of the finite cells (lfqt.indexing.rank): the
     neighbours point anywhere in C, and a bit per cell plus a count per 64
     stay in cache where an id per cell would not.
