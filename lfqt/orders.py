@@ -458,18 +458,18 @@ def _kdtree_inorder(X, ids, alternate, presorted):
 
 def kdtree_order(P, alternate, sibling, presorted=PRESORTED):
     """(perm, hint, inorder, P[inorder]): the breadth-first labels and
-    their hints, the ids as the median selections leave them
-    (_kdtree_inorder), the tree's in-order: every subtree a contiguous range
-    with its median in the middle::
+    their hints, the ids as _kdtree_inorder leaves them, the tree's
+    in-order: every subtree a contiguous range with its median in the
+    middle::
 
         inorder   [ left subtree | median | right subtree ]
                     [ l | m | r ]            [ l | m | r ]
 
-    and the rows of P in that order, as the selections leave them too.
-    numpy allocates the arrays (on huge pages: see
-    lfqt.incremental.kernel.insert_all).  ``presorted``: the size of the
-    subtrees built from sorted lists (_kdtree_inorder); the tree is the same
-    whatever it is."""
+    and the rows of P in that order, which it leaves too.  numpy allocates
+    the arrays (it asks for huge pages for large ones itself; lfqt.pages
+    measured no faster here).  ``presorted``: the size of the subtrees built
+    from sorted lists (_kdtree_inorder); the tree is the same whatever it
+    is."""
     n = len(P)
     ids, X = np.arange(n, dtype=index_dtype(n)), P.copy()
     perm, hint, q_lo, q_hi = (np.empty(n, dtype=np.int64) for _ in range(4))

@@ -734,10 +734,9 @@ def finite_cells(C, N, mark, ids, records=None):
     DEAD): the finite ones with vertices mapped through ``ids``, neighbours
     renumbered, -1 across the hull, and the hull's facets, oriented
     outward, one per infinite cell (2D: edges, which the caller chains into
-    a loop).  A cell's new id
-    is its rank in a bitmap of the finite cells (lfqt.indexing.rank): the
-    neighbours point anywhere in C, and a bit per cell plus a count per 64
-    stay in cache where an id per cell would not.
+    a loop).  A cell's new id is its rank in a bitmap of the finite cells
+    (lfqt.indexing.rank): the neighbours point anywhere in C, and a bit per
+    cell plus a count per 64 stay in cache where an id per cell would not.
 
     With ``records``, the array that C and N are rows of (insert_all's),
     the simplices are written over its first bytes, and its pages past them
