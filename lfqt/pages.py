@@ -16,7 +16,15 @@ and a fresh one then faults on the host too::
 (our Firecracker VMs).  So huge pages pay for calls whose memory is soon
 reused, and cost most where calls run long: a 3D insertion of 1M points
 runs 4 s, and its cell records and output came back host-faulted on every
-call, 0.7 s of 4.6 (``host_takes_free_pages``).
+call, 0.7 s of 4.6 (``host_takes_free_pages``).  An array's size stands for
+the length of the call that writes it, hence for how soon its pages come
+back (``huge_pays``)::
+
+    divide and conquer, T on        huge pages     small pages
+    1M points (T 48 MB), a call     0.230 s        0.240-0.258 s
+    4M (192 MB), first call         1.43-1.52 s    1.01-1.16 s
+    6M (288 MB)                     1.76-1.79 s    1.54-1.57 s
+    10M (480 MB)                    2.85-2.98 s    2.58-2.62 s
 """
 import mmap
 import os
@@ -24,6 +32,7 @@ import os
 import numpy as np
 
 SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
+SOON_REUSED = 128 << 20  # bytes: a larger array's call outlasts the host's ~2 s
 VIRTIO_DEVICES = "/sys/bus/virtio/devices"
 _BALLOON = 0x0005  # virtio device id of the memory balloon
 _REPORTING = 5  # its feature bit VIRTIO_BALLOON_F_REPORTING
@@ -46,6 +55,14 @@ def empty(shape, dtype, huge=True):
     if advice is not None:
         buf.madvise(advice)
     return np.frombuffer(buf, dtype=dtype, count=count).reshape(shape)
+
+
+def huge_pays(nbytes):
+    """Whether an array of ``nbytes`` goes on huge pages: unless the host
+    takes free pages back and the array is larger than SOON_REUSED, whose
+    call then runs long enough for the host to have taken back the pages
+    the last call freed (the table above)."""
+    return nbytes <= SOON_REUSED or not host_takes_free_pages()
 
 
 def keep_prefix(a, count):

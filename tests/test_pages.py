@@ -69,3 +69,13 @@ def test_a_balloon_that_reports_free_pages_is_detected(tmp_path):
     assert not pages.host_takes_free_pages(str(tmp_path))
     _device(tmp_path, "virtio2", 0x0005, bits)
     assert pages.host_takes_free_pages(str(tmp_path))
+
+
+@pytest.mark.parametrize("host_takes", [True, False])
+def test_huge_pages_pay_for_arrays_reused_soon_or_on_a_host_that_keeps_free_pages(
+        monkeypatch, host_takes):
+    monkeypatch.setattr(pages, "host_takes_free_pages", lambda: host_takes)
+    assert pages.huge_pays(pages.SOON_REUSED)
+    assert pages.huge_pays(1 << 20)
+    assert pages.huge_pays(pages.SOON_REUSED + 1) is (not host_takes)
+    assert pages.huge_pays(1 << 34) is (not host_takes)

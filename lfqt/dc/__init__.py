@@ -138,7 +138,9 @@ def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter):
     position (output.mark_used), so no page of T is touched twice."""
     n = P.shape[0]
     idx = perm.dtype
-    T = pages.empty(6 * max(2 * (n - 1), 0), t_dtype(n))  # huge pages: the merge runs 7% faster
+    slots, t_type = 6 * max(2 * (n - 1), 0), np.dtype(t_dtype(n))
+    # huge pages: the merge runs 7% faster, where they are not host-faulted
+    T = pages.empty(slots, t_type, pages.huge_pays(slots * t_type.itemsize))
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
     mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
