@@ -89,6 +89,16 @@ def test_duplicates_are_reported_and_inserted_once(rng):
     assert np.all(np.bincount(tri.simplices.ravel(), minlength=len(pts))[400:] == 0)
 
 
+@pytest.mark.parametrize("copies", [0, 1])
+def test_duplicate_of_is_the_identity_but_for_the_copies(copies, rng):
+    pts = rng.random((2000, 2))
+    pts = np.r_[pts, pts[1234:1234 + copies]]
+    tri = triangulate_verified(pts, threads=2)
+    want = np.arange(len(pts))
+    want[2000:] = 1234
+    assert np.array_equal(tri.duplicate_of, want) and tri.n_distinct == 2000
+
+
 @pytest.mark.parametrize("subdivision", SUBDIVISIONS)
 def test_agrees_with_scipy_in_general_position(subdivision, rng):
     pts = rng.random((3000, 2))

@@ -237,9 +237,7 @@ def _output(state, perm, root, workers):
     state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # free P, ops
     n = len(perm)
     idx = perm.dtype
-    duplicate_of = np.empty(n, dtype=idx)
-    n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
-        gaps, perm, duplicate_of, lo, hi))))
+    duplicate_of, n_distinct = _duplicate_of(gaps, perm, workers)
     nblocks = -(-(len(T) // 6) // output.BLOCK)
     chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
     bits = np.empty(nblocks, dtype=np.uint64)
@@ -270,6 +268,20 @@ def _output(state, perm, root, workers):
     for (lo, _), length in zip(chunks, lengths):
         output.move_rows(T, 6 * output.BLOCK * lo, 3 * first[lo], length)
     return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
+
+
+def _duplicate_of(gaps, perm, workers):
+    """(duplicate_of, number of distinct points): the identity when no key
+    repeats (the common case: a sequential write instead of a scatter to
+    the input order, 52 -> 15 ms at 10M), else each point's first copy
+    (output.duplicates_into)."""
+    n = len(perm)
+    if not np.any(gaps[1:] == subdivide.DUP):  # gaps[0] is DUP by convention
+        return np.arange(n, dtype=perm.dtype), n
+    duplicate_of = np.empty(n, dtype=perm.dtype)
+    n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
+        gaps, perm, duplicate_of, lo, hi))))
+    return duplicate_of, n_distinct
 
 
 def _rows(T, m, idx):
