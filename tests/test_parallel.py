@@ -11,7 +11,7 @@ from hypothesis import given, settings, strategies as st
 import generators
 import lfqt
 from conftest import triangle_set, triangulate_verified
-from lfqt.dc import merge
+from lfqt.dc import bins, merge
 from lfqt.workers import Workers
 
 THREADS = [2, 3, 4, 7]
@@ -128,6 +128,16 @@ def test_workers_chunking_covers_the_range():
             assert all(a[1] == b[0] for a, b in zip(chunks, chunks[1:]))
         out = w.map(w.chunks(10 ** 6), lambda c, lo, hi: (c, hi - lo))
         assert [c for c, _ in out] == list(range(len(out))) and sum(s for _, s in out) == 10 ** 6
+
+
+def test_levels_run_the_bins_largest_first_then_each_height():
+    # bins 0 [0, 10), 1 [10, 40), 3 [40, 60); merges 2 = 0 + 1, 4 = 2 + 3
+    nodes = np.array([[0, 10, -1, -1, -1, -1], [10, 40, -1, -1, -1, -1], [0, 40, 10, 5, 0, 1],
+                      [40, 60, -1, -1, -1, -1], [0, 60, 40, 6, 2, 3]])
+    calls = []
+    bins._run_levels(bins._Tree(nodes), None, lambda k: calls.append(("bin", k)),
+                     lambda k: calls.append(("merge", k)))
+    assert calls == [("bin", 1), ("bin", 3), ("bin", 0), ("merge", 2), ("merge", 4)]
 
 
 def test_bad_schedule():
