@@ -28,8 +28,10 @@ from .subdivide import DUP
 
 
 # Morton order scatters the input indices: gather_points asks for the point
-# AHEAD positions on before it reads it (1M: 9-17 -> 6-11 ms on a VM).
-AHEAD = 32
+# AHEAD positions on before it reads it (1M: 9-17 -> 6-11 ms on a VM).  A
+# random permutation, one thread: 1M 3.8 ms from 32 to 256; 10M 152 ms at
+# 32, 128-131 ms from 64 to 256 (memory's latency needs more in flight).
+AHEAD = 64
 
 
 @njit(cache=True, nogil=True)
