@@ -3,6 +3,7 @@ schedule, errors in workers surface, and stats carry the Fig. 5 phases."""
 import subprocess
 import sys
 import textwrap
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -130,14 +131,16 @@ def test_workers_chunking_covers_the_range():
         assert [c for c, _ in out] == list(range(len(out))) and sum(s for _, s in out) == 10 ** 6
 
 
-def test_levels_run_the_bins_largest_first_then_each_height():
+def test_levels_run_the_bins_largest_first_on_threads_then_each_height():
     # bins 0 [0, 10), 1 [10, 40), 3 [40, 60); merges 2 = 0 + 1, 4 = 2 + 3
     nodes = np.array([[0, 10, -1, -1, -1, -1], [10, 40, -1, -1, -1, -1], [0, 40, 10, 5, 0, 1],
                       [40, 60, -1, -1, -1, -1], [0, 60, 40, 6, 2, 3]])
-    calls = []
-    bins._run_levels(bins._Tree(nodes), None, lambda k: calls.append(("bin", k)),
-                     lambda k: calls.append(("merge", k)))
-    assert calls == [("bin", 1), ("bin", 3), ("bin", 0), ("merge", 2), ("merge", 4)]
+    in_turn = SimpleNamespace(map=map)  # a pool that runs its tasks in the order given
+    for pool, first in ((in_turn, [1, 3, 0]), (None, [0, 1, 3])):
+        calls = []
+        bins._run_levels(bins._Tree(nodes), pool, lambda k: calls.append(("bin", k)),
+                         lambda k: calls.append(("merge", k)))
+        assert calls == [("bin", k) for k in first] + [("merge", 2), ("merge", 4)]
 
 
 def test_bad_schedule():
