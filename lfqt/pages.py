@@ -22,9 +22,11 @@ back (``huge_pays``)::
 
     divide and conquer, T on        huge pages     small pages
     1M points (T 48 MB), a call     0.230 s        0.240-0.258 s
-    4M (192 MB), first call         1.43-1.52 s    1.01-1.16 s
-    6M (288 MB)                     1.76-1.79 s    1.54-1.57 s
-    10M (480 MB)                    2.85-2.98 s    2.58-2.62 s
+    4M (192 MB), a call             0.98-1.07 s    1.00-1.05 s
+    4M, a process's first call      1.02-1.52 s    1.00-1.16 s
+    6M (288 MB), a call             1.76-1.79 s    1.54-1.57 s
+    10M (480 MB), a call            2.85-2.98 s    2.58-2.62 s
+    10M, 2 threads, a call          1.33-2.58 s    1.49-1.77 s
 """
 import mmap
 import os

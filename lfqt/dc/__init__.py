@@ -273,8 +273,8 @@ def _output(state, perm, root, workers):
 def _duplicate_of(gaps, perm, workers):
     """(duplicate_of, number of distinct points): the identity when no key
     repeats (the common case: a sequential write instead of a scatter to
-    the input order, 52 -> 15 ms at 10M), else each point's first copy
-    (output.duplicates_into)."""
+    the input order, 44.5 -> 9.7 ms at 10M on one thread), else each
+    point's first copy (output.duplicates_into)."""
     n = len(perm)
     if not np.any(gaps[1:] == subdivide.DUP):  # gaps[0] is DUP by convention
         return np.arange(n, dtype=perm.dtype), n
