@@ -172,7 +172,8 @@ def _run_levels(tree, pool, run_bin, run_merge):
         if nodes[k, 2] >= 0:
             height[k] = 1 + max(height[nodes[k, 4]], height[nodes[k, 5]])
     each = pool.map if pool is not None else map
-    largest_first = sorted(tree.bins, key=lambda k: nodes[k, 0] - nodes[k, 1])  # by -(hi - lo)
-    list(each(run_bin, tree.bins if pool is None else largest_first))
+    order = (tree.bins if pool is None else
+             sorted(tree.bins, key=lambda k: nodes[k, 0] - nodes[k, 1]))  # by -(hi - lo)
+    list(each(run_bin, order))
     for h in range(1, int(height.max()) + 1):
         list(each(run_merge, np.flatnonzero(height == h)))
