@@ -73,6 +73,28 @@ def test_degenerate_sets_are_flagged(pts, reason, subdivision, dtype):
     assert set(tri.hull) == {tri.duplicate_of[order[0]], tri.duplicate_of[order[-1]]}
 
 
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+def test_three_points_are_the_merges_base_case(subdivision, rng):
+    """Any three points meet in the base case of a lone vertex and an edge:
+    one orientation test makes the triangle; a collinear triple goes on to
+    the general merge, which tests more."""
+    triples = list(rng.integers(-3, 4, (300, 3, 2)).astype(np.float64))
+    triples += [np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]),
+                np.array([[5.0, 0.0], [5.0, -1.0], [5.0, 3.0]])]
+    seen = set()
+    for pts in triples:
+        if len(np.unique(pts, axis=0)) < 3:
+            continue
+        tri = triangulate_verified(pts, subdivision=subdivision, counters=True)
+        tests = tri.stats["counts"]["orientation_tests"]
+        seen.add(tri.degenerate)
+        if tri.degenerate:
+            assert tri.reason == "all points collinear" and tests > 1
+        else:
+            assert tests == 1 and len(tri.simplices) == 1
+    assert seen == {True, False}
+
+
 def test_empty_input():
     tri = lfqt.triangulate(np.empty((0, 2)))
     assert tri.degenerate and len(tri.hull) == 0 and len(tri.simplices) == 0

@@ -18,7 +18,7 @@ from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import MIN_CHUNK, Workers
 from . import bins, hybrid, output, subdivide
-from .layout import PART, SINGLE, XMAX, XMIN, Mesh, t_dtype
+from .layout import PART, SMALL, XMAX, XMIN, Mesh, t_dtype
 from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
@@ -243,7 +243,7 @@ def _output(state, perm, root, workers):
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
     workers.map(chunks, lambda c, lo, hi: output.mark_used(codes, bits, counts, lo, hi))
-    if len(T) and not root[SINGLE]:
+    if len(T) and root[SMALL] != 1:
         output.clear_ghosts(T, ghost_out[root[XMIN]], bits, counts)
     first = np.zeros(nblocks + 1, dtype=np.int64)
     np.cumsum(counts, out=first[1:])
@@ -253,7 +253,7 @@ def _output(state, perm, root, workers):
         hull = output.hull_loop(T, ghost_out[root[XMIN]], perm, perm[:1])
     elif n == 0:
         hull, reason = np.empty(0, dtype=idx), "no points"
-    elif root[SINGLE]:
+    elif root[SMALL] == 1:
         hull, reason = perm[[root[XMIN]]], "fewer than 3 distinct points"
     else:
         hull = perm[[root[XMIN], root[XMAX]]]

@@ -28,7 +28,7 @@ from .. import orders
 from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
-from .layout import GHOST, SINGLE, XMAX, XMIN, YMAX, YMIN, edge, less, slot
+from .layout import GHOST, SMALL, XMAX, XMIN, YMAX, YMIN, edge, less, slot
 from .subdivide import run_starts
 
 ORDERS = ("hilbert", "kdtree")
@@ -77,9 +77,9 @@ def fill_bin(C, N, mark, ids, slots, P, T, ghost_out, part):
                 if T[slot(t2, j)] == b and T[slot(t2, (j + 1) % 3)] == a:
                     T[slot(t, 3 + i)] = edge(t2, j)
     v0 = ids[0]
-    for j in range(SINGLE):
+    for j in range(SMALL):
         part[j] = v0
-    part[SINGLE] = 0
+    part[SMALL] = 0
     for k in range(1, ids.shape[0]):
         v = ids[k]
         x, y = P[u(v), 0], P[u(v), 1]

@@ -23,7 +23,9 @@ The convex hull is wrapped in *ghost* triangles ``(a, b, GHOST)``, hull edge
 ``b -> a``, always with the ghost vertex in slot 2, so that every partition
 is a closed surface.  A partition is a row of 5 ints: the vertices with the
 largest x, smallest x, largest y and smallest y (``XMAX`` ... ``YMIN``), and
-``SINGLE`` (1 for a lone vertex, which has no ghosts).
+``SMALL``: 1 for a lone vertex, which has no ghosts, 2 for two vertices
+joined by the merge's base case (an edge between two ghosts), 0 for any
+other partition.
 
 The merge at split position ``p`` owns triangle slots ``2(p-1)`` and
 ``2(p-1)+1``, so slot ids depend only on the input, never on scheduling.
@@ -35,7 +37,7 @@ import numpy as np
 from numba import njit
 
 GHOST = -1
-XMAX, XMIN, YMAX, YMIN, SINGLE = range(5)
+XMAX, XMIN, YMAX, YMIN, SMALL = range(5)
 PART = 5  # ints per partition row
 STACK = 160  # partitions open at once: the quad-tree is at most 128 levels deep
 

@@ -22,7 +22,7 @@ from ..indexing import borrow, u
 from ..predicates.counters import INCIRCLE, ORIENT, tally_undecided
 from ..predicates.levels import binade, level_bounds
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
-from .layout import (GHOST, PART, SINGLE, STACK, XMAX, XMIN, YMAX, YMIN, less, link, link_edges,
+from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, less, link, link_edges,
                      nxt, origin, prv, set_triangle, slot, tri, twin)
 from .subdivide import ALT_X
 
@@ -62,6 +62,44 @@ def _splice_side(T, A, B, g, s):
     else:
         link(T, A, 2 - s, T[slot(g, 5 - s)])
         link_edges(T, B, 1 + s, g, 2 - s)
+
+
+@njit(cache=True, inline="always")
+def _edge_of_two(T, ghost_out, A, l, r):
+    """The base case of two lone vertices l, r: the ghosts A = (l, r, GHOST)
+    and B = (r, l, GHOST), twins along all three edges."""
+    B = A + 1
+    _splice(T, A, B, l, r)
+    link_edges(T, A, 2, B, 1)
+    link_edges(T, A, 1, B, 2)
+    ghost_out[u(l)] = B
+    ghost_out[u(r)] = A
+
+
+@njit(cache=True, inline="always")
+def _triangle_of_three(T, ghost_out, p, q, v, R, G0, G1, G2):
+    """The base case of three points: the triangle R = (p, q, v), counter-
+    clockwise, wrapped in its three ghosts, G0 across p -> q, G1 across
+    q -> v, G2 across v -> p, each ghost the twin of its neighbours::
+
+                 v
+           G2   / \\   G1
+               p---q
+                G0
+    """
+    set_triangle(T, R, p, q, v)
+    set_triangle(T, G0, q, p, GHOST)
+    set_triangle(T, G1, v, q, GHOST)
+    set_triangle(T, G2, p, v, GHOST)
+    link_edges(T, R, 0, G0, 0)
+    link_edges(T, R, 1, G1, 0)
+    link_edges(T, R, 2, G2, 0)
+    link_edges(T, G0, 1, G2, 2)
+    link_edges(T, G0, 2, G1, 1)
+    link_edges(T, G1, 2, G2, 1)
+    ghost_out[u(p)] = G0
+    ghost_out[u(q)] = G1
+    ghost_out[u(v)] = G2
 
 
 @njit(cache=True, inline="always")
@@ -153,7 +191,7 @@ def _union_extremes(P, parts, lt, rt, x_split):
     b = parts[rt, keep_min]
     if less(P[u(b), 0], P[u(b), 1], P[u(a), 0], P[u(a), 1], axis):
         parts[lt, keep_min] = b
-    parts[lt, SINGLE] = 0
+    parts[lt, SMALL] = 0
 
 
 @njit(cache=True, inline="always")
@@ -246,20 +284,43 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         op = ops[k]
         if op < 0:  # push the single vertex -op - 1
             top += 1
-            for j in range(SINGLE):
+            for j in range(SMALL):
                 parts[top, j] = -op - 1
-            parts[top, SINGLE] = 1
+            parts[top, SMALL] = 1
             continue
         lt, rt, code = top - 1, top, np.int64(codes[u(op)])
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
         l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
         r = parts[rt, XMIN if x_split else YMIN]
-        single_l, single_r = parts[lt, SINGLE] == 1, parts[rt, SINGLE] == 1
-        ccwb = iccb = ccws = iccs = 0.0
-        if not (single_l and single_r):  # two lone vertices: no predicate
-            ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
-            wx, wy = _box(P, parts, lt, rt)
-            ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
+        small_l, small_r = parts[lt, SMALL], parts[rt, SMALL]
+        A = 2 * (op - 1)  # the merge's two triangle slots, A and A + 1
+        # Base cases, 54% of all merges on uniform points, are built directly:
+        # two lone vertices make an edge, a lone vertex and such an edge a
+        # triangle (one orient test where the merge makes four); three
+        # collinear points go on to the merge (1M uniform: 158 -> 151 ms).
+        if small_l == 1 and small_r == 1:
+            _edge_of_two(T, ghost_out, A, l, r)
+            _union_extremes(P, parts, lt, rt, x_split)
+            parts[lt, SMALL] = 2
+            top -= 1
+            continue
+        if small_l + small_r == 3:
+            pair, v = (rt, l) if small_l == 1 else (lt, r)
+            a, b = parts[pair, XMIN], parts[pair, XMAX]
+            o, st = _orient(P, a, b, v, CCW_A, np.inf)
+            tally_undecided(counts, ORIENT, st)
+            o_calls += 1
+            if o != 0.0:
+                p, q = (a, b) if o > 0.0 else (b, a)
+                _triangle_of_three(T, ghost_out, p, q, v, A, A + 1, ghost_out[u(a)],
+                                   ghost_out[u(b)])
+                _union_extremes(P, parts, lt, rt, x_split)
+                top -= 1
+                continue
+        single_l, single_r = small_l == 1, small_r == 1
+        ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
+        wx, wy = _box(P, parts, lt, rt)
+        ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
         gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
         gr = -1 if single_r else ghost_out[u(r)]
         while True:  # lower common tangent: l walks clockwise, r counter-clockwise
@@ -271,7 +332,6 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             o_calls += tested
             if not moved:
                 break
-        A = 2 * (op - 1)
         B = A + 1
         _splice(T, A, B, l, r)
         _splice_side(T, A, B, gl, 0)
