@@ -40,11 +40,21 @@ def histograms(keys, lo, hi, counts):
 
 @njit(cache=True, nogil=True)
 def digit_counts(keys, lo, hi, shift, counts):
-    """counts (256,) of the digit at ``shift`` in keys[lo:hi]."""
-    counts[:] = 0
+    """counts (256,) of the digit at ``shift`` in keys[lo:hi], in four
+    partial histograms: on skewed digits (the exponent bits of one binade)
+    one counter would chain every increment on the last (10M uniform keys:
+    24 -> 9 ms for a digit of three values)."""
+    part = np.zeros((4, 256), dtype=np.int64)
     sh = np.uint64(shift)
-    for i in range(lo, hi):
-        counts[(keys[u(i)] >> sh) & _FF] += 1
+    i = lo
+    while i + 4 <= hi:
+        for j in range(4):
+            part[j, (keys[u(i + j)] >> sh) & _FF] += 1
+        i += 4
+    for j in range(hi - i):
+        part[j, (keys[u(i + j)] >> sh) & _FF] += 1
+    for b in range(256):
+        counts[b] = part[0, b] + part[1, b] + part[2, b] + part[3, b]
 
 
 @njit(cache=True, nogil=True)
@@ -212,7 +222,10 @@ def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, digit, in_buf, leaf):
         if here:
             src_k, src_p, dst_k, dst_p = key_buf, perm_buf, keys, perm
         if b - a > leaf:
-            while d >= 0:  # the highest digit that varies
+            # the highest digit that varies: top_digit's one cheap pass skips
+            # the constant ones (sign and exponent, 26 ms each at 10M)
+            d = min(d, top_digit(src_k, src_k[u(a)], a, b))
+            while d >= 0:
                 digit_counts(src_k, a, b, 8 * d, counts)
                 if counts[(src_k[u(a)] >> np.uint64(8 * d)) & _FF] != b - a:
                     break

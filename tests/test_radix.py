@@ -100,6 +100,18 @@ def test_constant_digits_are_skipped():
     assert np.all(np.diff(sorted_keys.astype(np.float64)) > 0)
 
 
+@given(st.lists(st.one_of(st.integers(0, 2 ** 64 - 1), st.just(0x0102030405060708)), max_size=50),
+       st.integers(0, 7), st.integers(0, 3))
+def test_digit_counts_equal_a_bincount_of_the_digit(values, digit, lo):
+    # any length, so that the four partial histograms end on every remainder
+    keys = np.array(values, dtype=np.uint64)
+    lo = min(lo, len(keys))
+    counts = np.full(256, -1, dtype=np.int64)
+    radix.digit_counts(keys, lo, len(keys), 8 * digit, counts)
+    want = np.bincount((keys[lo:] >> np.uint64(8 * digit)) & np.uint64(0xFF), minlength=256)
+    assert np.array_equal(counts, want)
+
+
 def test_chunked_sort_is_stable_across_chunks(rng):
     n = 3 * (1 << 16) + 17  # several chunks on 3 workers
     keys = (rng.integers(0, 300, n).astype(np.uint64) << np.uint64(40)) | np.uint64(7)
