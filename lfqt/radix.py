@@ -30,11 +30,12 @@ _MSD_STACK = 8 * 256 + 1  # pending ranges: at most 255 per level of 8, plus one
 
 
 @njit(cache=True, nogil=True)
-def histograms(keys, lo, hi, counts):
-    """Add the counts of all 8 digits of keys[lo:hi] to counts (8, 256)."""
+def histograms(keys, lo, hi, counts, digits):
+    """Add the counts of the lowest ``digits`` digits of keys[lo:hi] to
+    counts (8, 256)."""
     for i in range(lo, hi):
         k = keys[u(i)]
-        for d in range(8):
+        for d in range(digits):
             counts[d, (k >> np.uint64(8 * d)) & _FF] += 1
 
 
@@ -72,9 +73,10 @@ def scatter(src_k, src_p, dst_k, dst_p, lo, hi, shift, offsets):
 
 
 @njit(cache=True, nogil=True)
-def radix_passes(keys, perm, lo, hi, key_buf, perm_buf):
-    """Stable LSD sort of keys[lo:hi] (uint64) carrying perm[lo:hi]: one
-    histogram pass for all digits, then one scatter per varying digit,
+def radix_passes(keys, perm, lo, hi, key_buf, perm_buf, digits=8):
+    """Stable LSD sort of keys[lo:hi] (uint64), whose digits from ``digits``
+    up are known to agree, carrying perm[lo:hi]: one histogram pass for the
+    digits below, then one scatter per varying digit,
     alternating between the arrays and the scratch key_buf/perm_buf (same
     length as keys).  Returns the number of scatters: when odd, the sorted
     range is in the scratch.  (9- and 11-bit digits, for fewer scatters,
@@ -83,12 +85,12 @@ def radix_passes(keys, perm, lo, hi, key_buf, perm_buf):
     if n < 2:
         return 0
     counts = np.zeros((8, 256), dtype=np.int64)
-    histograms(keys, lo, hi, counts)
+    histograms(keys, lo, hi, counts, digits)
     first = keys[lo]
     passes = 0
     offsets = np.empty(256, dtype=np.int64)
     src_k, src_p, dst_k, dst_p = keys, perm, key_buf, perm_buf
-    for d in range(8):
+    for d in range(digits):
         shift = np.uint64(8 * d)
         if counts[d, (first >> shift) & _FF] == n:
             continue
@@ -243,7 +245,10 @@ def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, digit, in_buf, leaf):
                 continue
             passes = 0  # all keys equal: in order
         else:
-            passes = radix_passes(src_k, src_p, a, b, dst_k, dst_p)
+            # digits above d agree: not counted (a leaf of 1M uniform keys
+            # has three constant digits, each a chain of increments on one
+            # counter)
+            passes = radix_passes(src_k, src_p, a, b, dst_k, dst_p, d + 1)
         if here != (passes % 2 == 1):  # the sorted range is in the scratch
             for i in range(a, b):
                 keys[u(i)] = key_buf[u(i)]
