@@ -118,6 +118,14 @@ def stack_array(typingctx, size):
     return aty(size), codegen
 
 
+@njit(cache=True, nogil=True)
+def iota(out, lo, hi):
+    """out[i] = i for i in [lo, hi): the identity permutation by ranges, so
+    that threads can share it."""
+    for i in range(lo, hi):
+        out[u(i)] = i
+
+
 @njit(cache=True, inline="always")
 def bit(bits, t):
     """Bit t of a bitmap of uint64 words (64 bits each, lowest first)."""

@@ -3,7 +3,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.indexing import bit, borrow, popcount, prefetch, rank, stack_array, u
+from lfqt.indexing import bit, borrow, iota, popcount, prefetch, rank, stack_array, u
 
 
 @njit(cache=True)
@@ -98,3 +98,12 @@ def test_prefetch_is_a_hint_that_never_faults():
     for i in (0, 3, 1 << 40, -(1 << 40)):  # far outside: still no fault
         assert touch(A, i) == 0
     assert "prefetch" in touch.inspect_asm(touch.signatures[0])
+
+
+@given(st.integers(0, 200), st.integers(0, 200))
+def test_iota_writes_the_identity_over_its_range(lo, hi):
+    out = np.full(220, -1, dtype=np.int64)
+    iota(out, lo, hi)
+    want = np.full(220, -1, dtype=np.int64)
+    want[lo:hi] = np.arange(lo, max(lo, hi))
+    assert np.array_equal(out, want)

@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import morton, pages, radix
 from .._input import FORMATS, coordinates2d, index_dtype
+from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
 from ..workers import MIN_CHUNK, Workers
@@ -115,7 +116,8 @@ def sorted_keys(x, y, workers, idx_dtype):
     khi empty for 64-bit keys (float32 input)."""
     n = x.shape[0]
     chunks = workers.chunks(n)
-    perm = np.arange(n, dtype=idx_dtype)
+    perm = np.empty(n, dtype=idx_dtype)
+    workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
     if x.dtype == np.float64:
         khi = np.empty(n, dtype=np.uint64)
         klo_in = np.empty(n, dtype=np.uint64)
@@ -265,8 +267,8 @@ def _output(state, perm, root, workers):
     if min(lengths, default=0) < 0:
         raise RuntimeError("lfqt internal error: a ghost triangle off the hull ring; please "
                            "report the input")
-    for (lo, _), length in zip(chunks, lengths):
-        output.move_rows(T, 6 * output.BLOCK * lo, 3 * first[lo], length)
+    for (lo, _), length in zip(chunks, lengths):  # in chunk order: each over the one before
+        output.move_rows_parallel(T, 6 * output.BLOCK * lo, int(3 * first[lo]), length, workers)
     return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
 
 
@@ -274,12 +276,15 @@ def _duplicate_of(gaps, perm, workers):
     """(duplicate_of, number of distinct points): the identity when no key
     repeats (the common case: a sequential write instead of a scatter to
     the input order, 44.5 -> 9.7 ms at 10M on one thread), else each
-    point's first copy (output.duplicates_into)."""
+    point's first copy (output.duplicates_into); by ranges over
+    ``workers``."""
     n = len(perm)
-    if not np.any(gaps[1:] == subdivide.DUP):  # gaps[0] is DUP by convention
-        return np.arange(n, dtype=perm.dtype), n
+    chunks = workers.chunks(n)
     duplicate_of = np.empty(n, dtype=perm.dtype)
-    n_distinct = int(sum(workers.map(workers.chunks(n), lambda c, lo, hi: output.duplicates_into(
+    if not any(workers.map(chunks, lambda c, lo, hi: output.has_copies(gaps, lo, hi))):
+        workers.map(chunks, lambda c, lo, hi: iota(duplicate_of, lo, hi))
+        return duplicate_of, n
+    n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(
         gaps, perm, duplicate_of, lo, hi))))
     return duplicate_of, n_distinct
 

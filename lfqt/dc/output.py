@@ -124,6 +124,34 @@ def move_rows(T, src, dst, count):
         T[u(dst + j)] = T[u(src + j)]
 
 
+def move_rows_parallel(T, src, dst, count, workers):
+    """move_rows on ``workers``: in pieces of at most ``src - dst`` entries,
+    one after the other, each split over the threads.  A piece's
+    destination lies below its own source and over pieces already moved,
+    so its parts never overwrite what another thread still reads::
+
+        T  [ dst ...... | piece 0 src | piece 1 src | ... )
+             piece 0 dst  piece 1 dst
+    """
+    gap = src - dst
+    start = 0
+    while gap > 0 and start < count:
+        piece = min(gap, count - start)
+        parts = [(start + a, start + b) for a, b in workers.chunks(piece)]
+        workers.map(parts, lambda c, lo, hi: move_rows(T, src + lo, dst + lo, hi - lo))
+        start += piece
+
+
+@njit(cache=True, nogil=True)
+def has_copies(gaps, lo, hi):
+    """Whether a key in [lo, hi) repeats the one before it (gaps[0], DUP by
+    convention, is not a copy)."""
+    for i in range(max(lo, 1), hi):
+        if gaps[u(i)] == DUP:
+            return True
+    return False
+
+
 @njit(cache=True)
 def hull_loop(T, start_ghost, perm, index_sample):
     """Counter-clockwise hull vertices (input indices) by walking the ghost
