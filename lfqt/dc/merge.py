@@ -12,6 +12,9 @@ a left (or lower) partition with a right (or upper) one is:
    flipping it with its ghost; the better candidate gives the next cross
    edge, which ``A`` becomes, and the base moves up.
 
+Two lone vertices (an edge) and a lone vertex with such an edge (a triangle)
+are built directly, without the steps above (``run_ops``' base cases).
+
 Predicates are staged (lfqt.predicates) with the stage-1 bound of the merge's
 quad-tree level, and counted in ``counts`` (lfqt.predicates.counters).
 """
