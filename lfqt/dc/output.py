@@ -116,10 +116,8 @@ def _neighbor(bits, first, e):
 
 @njit(cache=True, nogil=True)
 def move_rows(T, src, dst, count):
-    """T[dst:dst + count] = T[src:src + count] for dst <= src (forward); the
-    first chunk's rows are already in place (src == dst)."""
-    if src == dst:
-        return
+    """T[dst:dst + count] = T[src:src + count], forward: for dst < src, or
+    ranges apart (a part of move_rows_parallel's pieces)."""
     for j in range(count):
         T[u(dst + j)] = T[u(src + j)]
 
