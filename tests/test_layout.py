@@ -6,7 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from lfqt.dc.layout import edge, link, link_edges, nxt, origin, prv, t_dtype, tri, twin
+from lfqt.dc.layout import (before, edge, less, link, link_edges, nxt, origin, prv, t_dtype,
+                             tri, twin)
 
 
 @njit(cache=True)
@@ -59,3 +60,15 @@ def test_t_dtype_holds_the_largest_half_edge_id():
         largest = 4 * (2 * (n - 1) - 1) + 2
         assert np.iinfo(t_dtype(n)).max >= largest
     assert t_dtype(10 ** 6) == np.int32  # small inputs keep the compact layout
+
+
+_coordinate = st.sampled_from([-1.0, -0.0, 0.0, 0.5, 1.0])
+
+
+@given(st.tuples(_coordinate, _coordinate), st.tuples(_coordinate, _coordinate),
+       st.sampled_from([0, 1]))
+def test_before_is_less_on_vertices(a, b, axis):
+    # few values, so that ties on either coordinate (and -0.0 against 0.0) come up
+    P = np.array([a, b])
+    assert before(P, 0, 1, axis) == less(a[0], a[1], b[0], b[1], axis)
+    assert before(P, 1, 0, axis) == less(b[0], b[1], a[0], a[1], axis)

@@ -28,7 +28,7 @@ from .. import orders
 from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
-from .layout import GHOST, SMALL, XMAX, XMIN, YMAX, YMIN, edge, less, slot
+from .layout import GHOST, SMALL, XMAX, XMIN, YMAX, YMIN, before, edge, slot
 from .subdivide import run_starts
 
 ORDERS = ("hilbert", "kdtree")
@@ -82,14 +82,13 @@ def fill_bin(C, N, mark, ids, slots, P, T, ghost_out, part):
     part[SMALL] = 0
     for k in range(1, ids.shape[0]):
         v = ids[k]
-        x, y = P[u(v), 0], P[u(v), 1]
-        if less(P[u(part[XMAX]), 0], P[u(part[XMAX]), 1], x, y, 0):
+        if before(P, part[XMAX], v, 0):
             part[XMAX] = v
-        if less(x, y, P[u(part[XMIN]), 0], P[u(part[XMIN]), 1], 0):
+        if before(P, v, part[XMIN], 0):
             part[XMIN] = v
-        if less(P[u(part[YMAX]), 0], P[u(part[YMAX]), 1], x, y, 1):
+        if before(P, part[YMAX], v, 1):
             part[YMAX] = v
-        if less(x, y, P[u(part[YMIN]), 0], P[u(part[YMIN]), 1], 1):
+        if before(P, v, part[YMIN], 1):
             part[YMIN] = v
     return True
 

@@ -36,6 +36,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..indexing import u
+
 GHOST = -1
 XMAX, XMIN, YMAX, YMIN, SMALL = range(5)
 PART = 5  # ints per partition row
@@ -125,3 +127,16 @@ def less(ax, ay, bx, by, axis):
     if axis == 0:
         return ax < bx or (ax == bx and ay < by)
     return ay < by or (ay == by and ax > bx)
+
+
+@njit(cache=True, inline="always")
+def before(P, a, b, axis):
+    """less for vertices a and b of P, without a branch: where which comes
+    first is a coin toss (the merge's extremes), ``less``'s short-circuits
+    mispredict half the time (1M uniform points: merge 151-152 -> 145-149
+    ms; ``less`` itself written without them stayed as fast as before)."""
+    ka, kb = P[u(a), axis], P[u(b), axis]
+    ta, tb = P[u(a), 1 - axis], P[u(b), 1 - axis]
+    if axis == 1:
+        ta, tb = -ta, -tb
+    return (ka < kb) | ((ka == kb) & (ta < tb))

@@ -25,8 +25,8 @@ from ..indexing import borrow, u
 from ..predicates.counters import INCIRCLE, ORIENT, tally_undecided
 from ..predicates.levels import binade, level_bounds
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
-from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, link, link_edges,
-                     nxt, origin, prv, set_triangle, slot, tri, twin)
+from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, before, link,
+                     link_edges, nxt, origin, prv, set_triangle, slot, tri, twin)
 from .subdivide import ALT_X
 
 
@@ -73,8 +73,8 @@ def _edge_of_two(T, ghost_out, A, l, r):
     and B = (r, l, GHOST), twins along all three edges."""
     B = A + 1
     _splice(T, A, B, l, r)
-    link_edges(T, A, 2, B, 1)
-    link_edges(T, A, 1, B, 2)
+    _splice_side(T, A, B, -1, 0)
+    _splice_side(T, A, B, -1, 1)
     ghost_out[u(l)] = B
     ghost_out[u(r)] = A
 
@@ -177,22 +177,10 @@ def _box(P, parts, lt, rt):
 
 
 @njit(cache=True, inline="always")
-def _before(P, a, b, axis):
-    """Whether vertex a comes before b in the order of lfqt.dc.layout.less
-    along ``axis`` (0: (x, y), 1: (y, -x)), without a branch: it is a coin
-    toss, and the branches of ``less`` mispredict half the time (1M uniform
-    points: merge 151-152 -> 145-149 ms)."""
-    ka, kb = P[u(a), axis], P[u(b), axis]
-    ta, tb = P[u(a), 1 - axis], P[u(b), 1 - axis]
-    if axis == 1:
-        ta, tb = -ta, -tb
-    return (ka < kb) | ((ka == kb) & (ta < tb))
-
-
-@njit(cache=True, inline="always")
 def _union_extremes(P, parts, lt, rt, x_split):
     """The extremes of the union of partitions lt and rt, into row lt: along
-    the split axis each side holds one by construction, across it the larger."""
+    the split axis each side holds one by construction, across it the larger,
+    picked by a select (layout.before)."""
     if x_split:
         parts[lt, XMAX] = parts[rt, XMAX]
         keep_max, keep_min, axis = YMAX, YMIN, 1
@@ -200,9 +188,9 @@ def _union_extremes(P, parts, lt, rt, x_split):
         parts[lt, YMAX] = parts[rt, YMAX]
         keep_max, keep_min, axis = XMAX, XMIN, 0
     a, b = parts[lt, keep_max], parts[rt, keep_max]
-    parts[lt, keep_max] = b if _before(P, a, b, axis) else a
+    parts[lt, keep_max] = b if before(P, a, b, axis) else a
     a, b = parts[lt, keep_min], parts[rt, keep_min]
-    parts[lt, keep_min] = b if _before(P, b, a, axis) else a
+    parts[lt, keep_min] = b if before(P, b, a, axis) else a
     parts[lt, SMALL] = 0
 
 

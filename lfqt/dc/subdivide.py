@@ -20,7 +20,7 @@ from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
 from ..indexing import random_index, range_seed, u
-from .layout import STACK, less
+from .layout import STACK, before, less
 
 ALT_X = 128
 ALT_Y = 129
@@ -219,11 +219,11 @@ def _select(ids, lo, hi, k, P, axis):
         else:
             mid = (lo + hi) >> 1
             a, b, c = ids[lo], ids[mid], ids[hi - 1]
-            if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
+            if before(P, b, a, axis):
                 a, b = b, a
-            if less(P[c, 0], P[c, 1], P[b, 0], P[b, 1], axis):
+            if before(P, c, b, axis):
                 b, c = c, b
-                if less(P[b, 0], P[b, 1], P[a, 0], P[a, 1], axis):
+                if before(P, b, a, axis):
                     a, b = b, a
         px = P[b, 0]
         py = P[b, 1]
