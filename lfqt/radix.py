@@ -6,12 +6,16 @@ that is the same for all keys is skipped, so data that shares its leading
 bits (all positive, one binade, ...) pays only for the digits that vary.
 Each LSD pass moves every key, so on arrays larger than the cache every pass
 goes to memory.  MSD first (``msd_sort_range``): a range larger than
-``MSD_LEAF`` keys is split into 256 buckets by its highest varying digit (a
-counting pass and a scatter), each bucket in turn, until the ranges fit in
-cache, where LSD sorts them: two passes through memory per split level
-(1M uniform keys: 2 levels) against one per varying digit (7) for LSD
-alone, and the buckets are independent work for the threads (``sort_keys``).  Sorting is stable, which
-makes the first of a run of equal keys its smallest input index.
+``MSD_LEAF`` keys is split into 256 buckets by the 8 bits from its highest
+varying bit down (a counting pass and a scatter), each bucket in turn, until
+the ranges fit in cache, where LSD sorts them: two passes through memory per
+split level (1M uniform keys: 2 levels) against one per varying digit (7)
+for LSD alone, and the buckets are independent work for the threads
+(``sort_keys``).  The MSD digits start at the highest varying bit, not at a
+byte boundary: on float keys that bit is often alone in its byte (the
+exponent bits of the few points near 0), and a byte-aligned split would
+move every key to separate those few.  Sorting is stable, which makes the
+first of a run of equal keys its smallest input index.
 """
 import numpy as np
 from numba import njit
@@ -127,10 +131,10 @@ def sort_keys(keys, perm, workers, leaf=MSD_LEAF):
         return keys, perm
     key_buf, perm_buf = np.empty_like(keys), np.empty_like(perm)
     if len(workers.chunks(n)) == 1:
-        msd_sort_range(keys, perm, 0, n, key_buf, perm_buf, 7, False, leaf)
+        msd_sort_range(keys, perm, 0, n, key_buf, perm_buf, 63, False, leaf)
         return keys, perm
     share = max(leaf, n // (2 * workers.threads))
-    pending, ready = [(0, n, 7, False)], []
+    pending, ready = [(0, n, 63, False)], []
     while pending:
         a, b, d, in_buf = pending.pop()
         if b - a <= share or d < 0:  # d < 0: all keys equal (nothing to split)
@@ -156,96 +160,107 @@ def sort_keys(keys, perm, workers, leaf=MSD_LEAF):
 
 def _split_parallel(keys, perm, key_buf, perm_buf, a, b, in_buf, workers):
     """Split range [a, b) (in the scratch when ``in_buf``) into buckets by
-    its highest varying digit, in parallel over chunks of the range, into the
-    other array; returns the buckets as (lo, hi, digit below, in_buf)."""
+    the 8 bits from its highest varying one down (msd_sort_range), in
+    parallel over chunks of the range, into the other array; returns the
+    buckets as (lo, hi, highest bit that may vary, in_buf)."""
     src_k, src_p, dst_k, dst_p = ((key_buf, perm_buf, keys, perm) if in_buf else
                                   (keys, perm, key_buf, perm_buf))
     chunks = [(a + lo, a + hi) for lo, hi in workers.chunks(b - a)]
-    d = max(workers.map(chunks, lambda c, lo, hi: top_digit(src_k, src_k[a], lo, hi)))
-    if d < 0:  # all keys equal: in order (msd_sort_range moves it back from the scratch)
+    h = max(workers.map(chunks, lambda c, lo, hi: top_bit(src_k, src_k[a], lo, hi)))
+    if h < 0:  # all keys equal: in order (msd_sort_range moves it back from the scratch)
         return [(a, b, -1, in_buf)]
-    per_chunk = np.stack(workers.map(chunks, lambda c, lo, hi: _digit_chunk(src_k, lo, hi, 8 * d)))
+    shift = digit_shift(h)
+    per_chunk = np.stack(workers.map(chunks, lambda c, lo, hi: _digit_chunk(src_k, lo, hi, shift)))
     # chunk c writes bucket b after every smaller bucket and after the same
     # bucket of chunks before it: stable
     totals = per_chunk.sum(axis=0)
     starts = a + np.concatenate(([0], np.cumsum(totals)[:-1]))
     offsets = starts + np.cumsum(per_chunk, axis=0) - per_chunk
-    workers.map(chunks, lambda c, lo, hi: scatter(src_k, src_p, dst_k, dst_p, lo, hi, 8 * d,
+    workers.map(chunks, lambda c, lo, hi: scatter(src_k, src_p, dst_k, dst_p, lo, hi, shift,
                                                   offsets[c].copy()))
-    return [(int(s0), int(s0 + t), d - 1, not in_buf) for s0, t in zip(starts, totals) if t]
+    return [(int(s0), int(s0 + t), shift - 1, not in_buf) for s0, t in zip(starts, totals) if t]
 
 
 @njit(cache=True, nogil=True)
-def top_digit(keys, first, lo, hi):
-    """Highest digit (0: least significant) in which a key of keys[lo:hi]
-    differs from ``first``, or -1."""
+def top_bit(keys, first, lo, hi):
+    """Highest bit in which a key of keys[lo:hi] differs from ``first``, or
+    -1."""
     diff = np.uint64(0)
     for i in range(lo, hi):
         diff |= keys[u(i)] ^ first
     if diff == 0:
         return -1
-    return (63 - leading_zeros(diff)) >> 3
+    return 63 - leading_zeros(diff)
+
+
+@njit(cache=True, inline="always")
+def digit_shift(top):
+    """The shift of the MSD digit whose highest bit is ``top`` (>= 0): the 8
+    bits from it down, fewer at the bottom of the key."""
+    return max(top - 7, 0)
 
 
 @njit(cache=True, nogil=True)
 def msd_sort_ranges(keys, perm, key_buf, perm_buf, rows, leaf):
-    """msd_sort_range of each row (lo, hi, digit, in_buf) of ``rows``."""
+    """msd_sort_range of each row (lo, hi, bit, in_buf) of ``rows``."""
     for r in range(rows.shape[0]):
         msd_sort_range(keys, perm, rows[r, 0], rows[r, 1], key_buf, perm_buf, rows[r, 2],
                        rows[r, 3] != 0, leaf)
 
 
 @njit(cache=True, nogil=True)
-def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, digit, in_buf, leaf):
-    """Stable sort of range [lo, hi), whose keys agree above ``digit``, into
+def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, bit, in_buf, leaf):
+    """Stable sort of range [lo, hi), whose keys agree above ``bit``, into
     keys/perm; the range starts in key_buf/perm_buf when ``in_buf``.
 
-    A range of more than ``leaf`` keys is counted by its highest varying
-    digit and scattered by it into the other array, where each bucket is
-    sorted the same way; a range of at most ``leaf`` keys is sorted by LSD
-    (radix_passes) and copied back to keys/perm if it ends in the scratch::
+    A range of more than ``leaf`` keys is counted by the 8 bits from its
+    highest varying bit h down and scattered by them into the other array,
+    where each bucket, whose keys agree above h - 8, is sorted the same way;
+    a range of at most ``leaf`` keys is sorted by LSD (radix_passes) and
+    copied back to keys/perm if it ends in the scratch::
 
-        keys [ a . . . . . . . . . b )   split by digit d
-        buf  [ 0 0 0 | 1 1 | ... | ff )  buckets, each split by digit < d
+        keys [ a . . . . . . . . . b )   split by bits h ... h-7
+        buf  [ 0 0 0 | 1 1 | ... | ff )  buckets, each split below h-7
         keys [ . . . )                   ... until LSD in cache
     """
     s_lo = np.empty(_MSD_STACK, dtype=np.int64)
     s_hi = np.empty(_MSD_STACK, dtype=np.int64)
-    s_digit = np.empty(_MSD_STACK, dtype=np.int64)
+    s_bit = np.empty(_MSD_STACK, dtype=np.int64)
     s_buf = np.empty(_MSD_STACK, dtype=np.bool_)
     counts = np.empty(256, dtype=np.int64)
     offsets = np.empty(256, dtype=np.int64)
     top = 0
-    s_lo[0], s_hi[0], s_digit[0], s_buf[0] = lo, hi, digit, in_buf
+    s_lo[0], s_hi[0], s_bit[0], s_buf[0] = lo, hi, bit, in_buf
     while top >= 0:
-        a, b, d, here = s_lo[top], s_hi[top], s_digit[top], s_buf[top]
+        a, b, h, here = s_lo[top], s_hi[top], s_bit[top], s_buf[top]
         top -= 1
         src_k, src_p, dst_k, dst_p = keys, perm, key_buf, perm_buf
         if here:
             src_k, src_p, dst_k, dst_p = key_buf, perm_buf, keys, perm
         if b - a > leaf:
-            # the highest digit that varies (-1: all keys equal), found by
-            # top_digit's one cheap pass, not by counting the constant ones
+            # the highest bit that varies (-1: all keys equal), found by
+            # top_bit's one cheap pass, not by counting the constant digits
             # (sign and exponent, 26 ms each at 10M)
-            d = min(d, top_digit(src_k, src_k[u(a)], a, b))
-            if d >= 0:
-                digit_counts(src_k, a, b, 8 * d, counts)
+            h = min(h, top_bit(src_k, src_k[u(a)], a, b))
+            if h >= 0:
+                shift = digit_shift(h)
+                digit_counts(src_k, a, b, shift, counts)
                 start = a
                 for k in range(256):
                     offsets[k] = start
                     if counts[k]:
                         top += 1
-                        s_lo[top], s_hi[top], s_digit[top] = start, start + counts[k], d - 1
+                        s_lo[top], s_hi[top], s_bit[top] = start, start + counts[k], shift - 1
                         s_buf[top] = not here
                     start += counts[k]
-                scatter(src_k, src_p, dst_k, dst_p, a, b, 8 * d, offsets)
+                scatter(src_k, src_p, dst_k, dst_p, a, b, shift, offsets)
                 continue
             passes = 0  # all keys equal: in order
         else:
-            # digits above d agree: not counted (a leaf of 1M uniform keys
+            # digits above h's agree: not counted (a leaf of 1M uniform keys
             # has three constant digits, each a chain of increments on one
             # counter)
-            passes = radix_passes(src_k, src_p, a, b, dst_k, dst_p, d + 1)
+            passes = radix_passes(src_k, src_p, a, b, dst_k, dst_p, h // 8 + 1)
         if here != (passes % 2 == 1):  # the sorted range is in the scratch
             for i in range(a, b):
                 keys[u(i)] = key_buf[u(i)]

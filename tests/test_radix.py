@@ -38,6 +38,18 @@ def test_msd_down_to_tiny_leaves_matches_stable_argsort(values, leaf):
     assert np.array_equal(sk, keys[expect])
 
 
+@given(st.integers(0, 60), st.lists(st.integers(0, 2 ** 12 - 1), min_size=2, max_size=300),
+       st.sampled_from([1, 3]), st.sampled_from(WORKERS))
+def test_msd_digits_off_byte_boundaries_match_stable_argsort(shift, values, leaf, workers):
+    # 12 varying bits at any offset: the MSD digits start at the highest
+    # varying bit, mid-byte, and end below a byte boundary.
+    keys = np.array(values, dtype=np.uint64) << np.uint64(shift)
+    sk, perm = radix.sort_keys(keys.copy(), perm32(len(keys)), workers, leaf=leaf)
+    expect = np.argsort(keys, kind="stable")
+    assert np.array_equal(perm, expect)
+    assert np.array_equal(sk, keys[expect])
+
+
 @given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 2 ** 64 - 1)), max_size=300),
        st.sampled_from(WORKERS))
 def test_sort128_orders_lexicographically_and_stably(pairs, workers):
