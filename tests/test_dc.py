@@ -1,5 +1,9 @@
 """The LFQT and alternating triangulators on fixtures and random sets; every
 mesh is verified exactly (conftest.triangulate_verified)."""
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 import pytest
 import scipy.spatial
@@ -93,6 +97,71 @@ def test_three_points_are_the_merges_base_case(subdivision, rng):
         else:
             assert tests == 1 and len(tri.simplices) == 1
     assert seen == {True, False}
+
+
+def _orientation(a, b, c):
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])  # exact: small integers
+
+
+@pytest.mark.parametrize("subdivision", SUBDIVISIONS)
+def test_four_points_are_the_merges_base_case(subdivision, rng):
+    """Four points meet as two edges or as a lone vertex and a triangle, both
+    base cases: four orient tests in all and at most one in-circle test,
+    where the general merges make more.  Sets with a collinear triple go on
+    to the general merge (tested more), cocircular ones (squares, inscribed
+    quads) to the base case's in-circle tie."""
+    quads = list(rng.integers(-4, 5, (400, 4, 2)).astype(np.float64))
+    quads += [np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+              np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [1.0, 1.0]])]
+    shapes = set()
+    for pts in quads:
+        if len(np.unique(pts, axis=0)) < 4:
+            continue
+        tri = triangulate_verified(pts, subdivision=subdivision, counters=True)
+        counts = tri.stats["counts"]
+        collinear = any(_orientation(*pts[list(c)]) == 0
+                        for c in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)))
+        if collinear:
+            assert counts["orientation_tests"] > 4 or tri.degenerate
+            continue
+        assert counts["orientation_tests"] == 4 and counts["incircle_tests"] <= 1
+        shapes.add(len(tri.simplices))
+    assert shapes == {2, 3}  # convex quads, and a point inside a triangle
+
+
+def test_many_calls_in_one_process_stay_sound():
+    """Hundreds of small sets of every kind (duplicates, grids, cocircular
+    rings, huge and tiny magnitudes), one after the other in one child
+    process, each verified.  A kernel that writes to memory it no longer
+    owns corrupts the allocator and crashes a later call (a merge stack
+    freed while a borrowed view of it was still in use did, at the 24th)."""
+    code = textwrap.dedent("""
+        import numpy as np
+        import lfqt
+        from lfqt.verification import verify
+        rng = np.random.default_rng(5)
+        for t in range(400):
+            n, kind = int(rng.integers(4, 120)), t % 5
+            if kind == 0:
+                p = rng.integers(-3, 4, (n, 2)).astype(float)
+            elif kind == 1:
+                p = rng.random((n, 2)) * 10.0 ** float(rng.integers(-300, 300))
+            elif kind == 2:
+                p = np.round(rng.random((n, 2)) * 8) / 8
+            elif kind == 3:
+                a = rng.integers(0, 8, n) * np.pi / 4
+                p = np.c_[np.cos(a), np.sin(a)] * rng.integers(1, 3, (n, 1))
+            else:
+                p = rng.standard_normal((n, 2))
+                p[::3] = p[1]
+            for subdivision in ("lfqt", "alternating"):
+                report = verify(p, lfqt.triangulate(p, subdivision=subdivision))
+                assert report.ok, (t, subdivision, report)
+        print("sound")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0 and proc.stdout.strip() == "sound", proc.stderr[-2000:]
 
 
 def test_empty_input():

@@ -24,7 +24,8 @@ The convex hull is wrapped in *ghost* triangles ``(a, b, GHOST)``, hull edge
 is a closed surface.  A partition is a row of 5 ints: the vertices with the
 largest x, smallest x, largest y and smallest y (``XMAX`` ... ``YMIN``), and
 ``SMALL``: 1 for a lone vertex, which has no ghosts, 2 for two vertices
-joined by the merge's base case (an edge between two ghosts), 0 for any
+joined by the merge's base case (an edge between two ghosts), 3 for a
+triangle of the base case (one real triangle in three ghosts), 0 for any
 other partition.
 
 The merge at split position ``p`` owns triangle slots ``2(p-1)`` and

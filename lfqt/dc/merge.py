@@ -12,8 +12,9 @@ a left (or lower) partition with a right (or upper) one is:
    flipping it with its ghost; the better candidate gives the next cross
    edge, which ``A`` becomes, and the base moves up.
 
-Two lone vertices (an edge) and a lone vertex with such an edge (a triangle)
-are built directly, without the steps above (``run_ops``' base cases).
+Two lone vertices (an edge), a lone vertex with such an edge (a triangle),
+and four points (two such edges, or a lone vertex and such a triangle) are
+built directly, without the steps above (``run_ops``' base cases).
 
 Predicates are staged (lfqt.predicates) with the stage-1 bound of the merge's
 quad-tree level, and counted in ``counts`` (lfqt.predicates.counters).
@@ -103,6 +104,124 @@ def _triangle_of_three(T, ghost_out, p, q, v, R, G0, G1, G2):
     ghost_out[u(p)] = G0
     ghost_out[u(q)] = G1
     ghost_out[u(v)] = G2
+
+
+@njit(cache=True, inline="always")
+def _ghost(T, ghost_out, G, a, b, R, i):
+    """G becomes the ghost (b, a, GHOST) of the hull edge a -> b, which is
+    edge i of the real triangle R."""
+    set_triangle(T, G, b, a, GHOST)
+    link_edges(T, G, 0, R, i)
+    ghost_out[u(a)] = G
+
+
+@njit(cache=True, inline="always")
+def _join(T, G, H):
+    """Close the ghost ring at the hull vertex between G's edge and the next
+    one, H's: G = (h, g, GHOST) and H = (k, h, GHOST) meet at h."""
+    link_edges(T, H, 1, G, 2)
+
+
+@njit(cache=True, inline="always")
+def _fan(T, ghost_out, x0, x1, x2, c, R0, R1, R2, G0, G1, G2):
+    """Four points, c inside the triangle (x0, x1, x2) (counter-clockwise):
+    the three triangles around c, wrapped in the ghosts G0, G1, G2 of the
+    hull edges x0 -> x1, x1 -> x2, x2 -> x0::
+
+                  x2
+                 / | \\
+                /  |  \\        R0 = (x0, x1, c)
+           R2  /   c   \\  R1   R1 = (x1, x2, c)
+              /  /   \\  \\     R2 = (x2, x0, c)
+             x0 --------- x1
+                   R0
+    """
+    set_triangle(T, R0, x0, x1, c)
+    set_triangle(T, R1, x1, x2, c)
+    set_triangle(T, R2, x2, x0, c)
+    link_edges(T, R0, 1, R1, 2)
+    link_edges(T, R1, 1, R2, 2)
+    link_edges(T, R2, 1, R0, 2)
+    _ghost(T, ghost_out, G0, x0, x1, R0, 0)
+    _ghost(T, ghost_out, G1, x1, x2, R1, 0)
+    _ghost(T, ghost_out, G2, x2, x0, R2, 0)
+    _join(T, G2, G0)
+    _join(T, G0, G1)
+    _join(T, G1, G2)
+
+
+@njit(cache=True, inline="always")
+def _quad(T, ghost_out, h0, h1, h2, h3, R0, R1, G0, G1, G2, G3):
+    """Four points in convex position, h0 ... h3 counter-clockwise: the
+    triangles R0 = (h0, h1, h2) and R1 = (h2, h3, h0) on the diagonal
+    h0-h2, wrapped in the ghosts G0 ... G3 of the hull edges h0 -> h1 ...
+    h3 -> h0::
+
+            h3 ------ h2
+             |  R1  / |
+             |    /   |
+             |  /  R0 |
+            h0 ------ h1
+    """
+    set_triangle(T, R0, h0, h1, h2)
+    set_triangle(T, R1, h2, h3, h0)
+    link_edges(T, R0, 2, R1, 2)
+    _ghost(T, ghost_out, G0, h0, h1, R0, 0)
+    _ghost(T, ghost_out, G1, h1, h2, R0, 1)
+    _ghost(T, ghost_out, G2, h2, h3, R1, 0)
+    _ghost(T, ghost_out, G3, h3, h0, R1, 1)
+    _join(T, G3, G0)
+    _join(T, G0, G1)
+    _join(T, G1, G2)
+    _join(T, G2, G3)
+
+
+@njit(cache=True, inline="always")
+def _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5):
+    """The base case of four points: the triangle (x, y, z), counter-
+    clockwise, and a fourth point v, triangulated in the six slots s0 ... s5
+    their partitions held.  Returns (done, orient calls, in-circle calls);
+    nothing is written when a triple is collinear (done False: the general
+    merge takes over).
+
+    Whether v lies right of each edge of (x, y, z) tells the case: of none,
+    v is inside (a fan around v); of one, the four are in convex position
+    and an in-circle test picks the diagonal; of two, their common vertex is
+    inside the triangle of the other three and v (a fan around it)."""
+    o1, st = _orient(P, x, y, v, CCW_A, np.inf)
+    tally_undecided(counts, ORIENT, st)
+    o2, st = _orient(P, y, z, v, CCW_A, np.inf)
+    tally_undecided(counts, ORIENT, st)
+    o3, st = _orient(P, z, x, v, CCW_A, np.inf)
+    tally_undecided(counts, ORIENT, st)
+    if o1 == 0.0 or o2 == 0.0 or o3 == 0.0:
+        return False, 3, 0
+    n1, n2, n3 = o1 < 0.0, o2 < 0.0, o3 < 0.0
+    seen = n1 + n2 + n3
+    if seen == 0:
+        _fan(T, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5)
+        return True, 3, 0
+    if seen == 1:  # rotate the edge that v sees to x -> y
+        if n2:
+            x, y, z = y, z, x
+        elif n3:
+            x, y, z = z, x, y
+        ic, st = incircle_staged(P[u(x), 0], P[u(x), 1], P[u(y), 0], P[u(y), 1], P[u(z), 0],
+                                 P[u(z), 1], P[u(v), 0], P[u(v), 1], ICC_A, np.inf)
+        tally_undecided(counts, INCIRCLE, st)
+        if ic > 0.0:  # v in the circle through x, y, z: the diagonal v-z
+            _quad(T, ghost_out, v, y, z, x, s0, s1, s2, s3, s4, s5)
+        else:
+            _quad(T, ghost_out, y, z, x, v, s0, s1, s2, s3, s4, s5)
+        return True, 3, 1
+    if seen == 2:  # rotate the vertex between the two edges v sees to y
+        if n2 and n3:
+            x, y, z = y, z, x
+        elif n3 and n1:
+            x, y, z = z, x, y
+        _fan(T, ghost_out, x, v, z, y, s0, s1, s2, s3, s4, s5)
+        return True, 3, 0
+    return False, 3, 0  # v right of all three edges: not for exact orientations
 
 
 @njit(cache=True, inline="always")
@@ -250,6 +369,59 @@ def _candidate(T, P, counts, A, B, s, lx, ly, rx, ry, ccwb, ccws, iccb, iccs):
     return ok, c, g, cx, cy, n_o, n_i
 
 
+@njit(cache=True, inline="always")
+def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
+    """Build the merge of partitions lt and rt directly if it is a base case
+    (A, A + 1: the merge's slots; l, r: the base's ends): (built, the
+    result's SMALL, orient calls, in-circle calls).
+
+    Base cases are 54% of all merges on uniform points: two lone vertices
+    make an edge, a lone vertex and such an edge a triangle (one orient test
+    where the merge makes four; 1M uniform: 158 -> 151 ms), and four points,
+    two edges or a lone vertex and a triangle, come from three or four
+    orient tests and at most one in-circle test (_four).  Where three of the
+    points are collinear the general merge takes over."""
+    small_l, small_r = parts[lt, SMALL], parts[rt, SMALL]
+    pair = small_l * small_r  # 1: 1+1, 2: 1+2, 3: 1+3, 4: 2+2, 0 or above: none
+    if pair == 1:
+        _edge_of_two(T, ghost_out, A, l, r)
+        return True, 2, 0, 0
+    if pair == 2:
+        side, v = (rt, l) if small_l == 1 else (lt, r)
+        a, b = parts[side, XMIN], parts[side, XMAX]
+        o, st = _orient(P, a, b, v, CCW_A, np.inf)
+        tally_undecided(counts, ORIENT, st)
+        if o == 0.0:
+            return False, 0, 1, 0
+        p, q = (a, b) if o > 0.0 else (b, a)
+        _triangle_of_three(T, ghost_out, p, q, v, A, A + 1, ghost_out[u(a)], ghost_out[u(b)])
+        return True, 3, 1, 0
+    if pair == 4:  # two edges: the triangle of three of their points, and the fourth
+        x, y = parts[lt, XMIN], parts[lt, XMAX]
+        z, v = parts[rt, XMIN], parts[rt, XMAX]
+        s0, s1, s2, s3 = ghost_out[u(x)], ghost_out[u(y)], ghost_out[u(z)], ghost_out[u(v)]
+        o, st = _orient(P, x, y, z, CCW_A, np.inf)
+        tally_undecided(counts, ORIENT, st)
+        if o == 0.0:
+            return False, 0, 1, 0
+        if o < 0.0:
+            x, y = y, x
+        built, oc, ic = _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, A, A + 1)
+        return built, 0, 1 + oc, ic
+    if pair == 3:  # the triangle's vertices, counter-clockwise along its ghosts
+        side, v = (lt, r) if small_l == 3 else (rt, l)
+        x = parts[side, XMIN]
+        s1 = ghost_out[u(x)]
+        y = T[slot(s1, 0)]
+        s2 = ghost_out[u(y)]
+        z = T[slot(s2, 0)]
+        s3 = ghost_out[u(z)]
+        s0 = tri(T[slot(s1, 3)])  # the real triangle, across the ghost's edge
+        built, oc, ic = _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, A, A + 1)
+        return built, 0, oc, ic
+    return False, 0, 0, 0
+
+
 @njit(cache=True, nogil=True)
 def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     """Execute ops[op_lo:op_hi] (lfqt.dc.subdivide; a merge at split position
@@ -264,12 +436,17 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     that both get code specialised for them (a loop over the side, which
     LLVM does not unroll, cost 10-28% of the merge).  An inlined helper
     that loops would pay two atomic reference counts per array per call
-    (half the run time), so it gets borrowed views of P and T
-    (lfqt.indexing.borrow), which cost none.
+    (half the run time), so it gets borrowed views of the arrays
+    (lfqt.indexing.borrow), which cost none; so does ``_base_case``, which
+    does not loop but runs for every merge (its reference counts on
+    ghost_out and the partition stack: 1M uniform, merge +8 ms).
     """
     P, T, ghost_out, fmt, level_filter = mesh
-    P, T, counts = borrow(P), borrow(T), borrow(counts)  # for the inlined helpers (see above)
-    parts = np.empty((STACK, PART), dtype=np.int64)
+    P, T, counts, ghost_out = borrow(P), borrow(T), borrow(counts), borrow(ghost_out)
+    stack = np.empty((STACK, PART), dtype=np.int64)
+    parts = borrow(stack)  # the views are for the inlined helpers (see above)
+    # (stack is used once more at the end: numba frees an array after its
+    # last use, and a borrowed view does not keep it alive)
     # Call counts and each side's state live in scalars, not in small arrays:
     # the stores to T may alias any array, which would cost reloads.  The
     # calls stage 1 leaves undecided are rare and counted in ``counts`` on a
@@ -292,32 +469,16 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
         l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
         r = parts[rt, XMIN if x_split else YMIN]
-        small_l, small_r = parts[lt, SMALL], parts[rt, SMALL]
+        single_l, single_r = parts[lt, SMALL] == 1, parts[rt, SMALL] == 1
         A = 2 * (op - 1)  # the merge's two triangle slots, A and A + 1
-        # Base cases, 54% of all merges on uniform points, are built directly:
-        # two lone vertices make an edge, a lone vertex and such an edge a
-        # triangle (one orient test where the merge makes four); three
-        # collinear points go on to the merge (1M uniform: 158 -> 151 ms).
-        if small_l == 1 and small_r == 1:
-            _edge_of_two(T, ghost_out, A, l, r)
+        built, small, oc, ic = _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A)
+        o_calls += oc
+        i_calls += ic
+        if built:
             _union_extremes(P, parts, lt, rt, x_split)
-            parts[lt, SMALL] = 2
+            parts[lt, SMALL] = small
             top -= 1
             continue
-        if small_l + small_r == 3:
-            pair, v = (rt, l) if small_l == 1 else (lt, r)
-            a, b = parts[pair, XMIN], parts[pair, XMAX]
-            o, st = _orient(P, a, b, v, CCW_A, np.inf)
-            tally_undecided(counts, ORIENT, st)
-            o_calls += 1
-            if o != 0.0:
-                p, q = (a, b) if o > 0.0 else (b, a)
-                _triangle_of_three(T, ghost_out, p, q, v, A, A + 1, ghost_out[u(a)],
-                                   ghost_out[u(b)])
-                _union_extremes(P, parts, lt, rt, x_split)
-                top -= 1
-                continue
-        single_l, single_r = small_l == 1, small_r == 1
         ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
         wx, wy = _box(P, parts, lt, rt)
         ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
@@ -374,5 +535,5 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     counts[ORIENT] += o_calls
     counts[INCIRCLE] += i_calls
     for i in range(top + 1):
-        parts_out[i] = parts[i]
+        parts_out[i] = stack[i]
     return top + 1
