@@ -81,7 +81,10 @@ def borrow(typingctx, arr):
     a no-op (NRT_incref returns at once on null, and LLVM folds the test
     away).  For passing arrays to an inlined helper that loops, where each
     reference would cost two atomic operations per call.  The view must not
-    outlive ``arr``: take it inside the kernel that owns ``arr``."""
+    outlive ``arr``: take it inside the kernel that owns ``arr``, and if
+    ``arr`` is that kernel's own, use ``arr`` itself after the view's last
+    use (numba frees a local array after its last use, the view's uses not
+    counted)."""
     def codegen(context, builder, signature, args):
         aty = signature.args[0]
         src = context.make_array(aty)(context, builder, value=args[0])
