@@ -13,6 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .indexing import u
 from .workers import Workers
 
 MAX_EXP = 248
@@ -59,25 +60,65 @@ def as_exact_float(points, dims):
 
 
 def coordinates2d(points, workers=None):
-    """Validate (n, 2) input; return (x, y, scale exponent).  x and y are
-    float32 or float64 views of one array holding exactly the input values
-    (no copies: a point's x and y then share a cache line in the Morton-order
-    gather); the exponent is exponent_for's, from the same scan."""
-    arr = as_exact_float(points, (2,))
+    """Validate (n, 2) input; return (pts, scale exponent): pts is a
+    C-contiguous float32 or float64 (n, 2) array holding exactly the input
+    values, the input itself when it is one (no copy; a point's x and y
+    share a cache line, which the kernels read side by side); the exponent
+    is exponent_for's, from the same scan."""
+    arr = np.ascontiguousarray(as_exact_float(points, (2,)))
     big, small = _checked_magnitudes(arr, workers)
-    return arr[:, 0], arr[:, 1], exponent_for(arr.dtype, big, small)
+    return arr, exponent_for(arr.dtype, big, small)
 
 
 def _checked_magnitudes(arr, workers=None):
     """(max |v|, min nonzero |v|) over the (n, d) float array, in one pass
-    (split over ``workers``); ValueError for rows with NaN or inf."""
+    (split over ``workers``); ValueError for rows with NaN or inf.  A
+    C-contiguous array is scanned by its bit patterns (``_scan_bits``); the
+    rows are looked at one by one only to report a NaN or inf."""
     workers = workers or Workers(1)
-    parts = workers.map(workers.chunks(arr.shape[0]), lambda c, lo, hi: _scan(arr, lo, hi))
+    chunks = workers.chunks(arr.shape[0])
+    if arr.flags.c_contiguous and arr.dtype in _BITS:
+        ints, mask, inf = _BITS[arr.dtype]
+        flat, d = arr.reshape(-1).view(ints), arr.shape[1]
+        parts = workers.map(chunks, lambda c, lo, hi: _scan_bits(flat, d * lo, d * hi,
+                                                                 mask, inf))
+        if not any(p[0] for p in parts):
+            big = max((p[1] for p in parts), default=ints(0))
+            small = min((p[2] for p in parts), default=mask)
+            as_float = lambda b: float(np.array(b, dtype=ints).view(arr.dtype))  # noqa: E731
+            return as_float(big), np.inf if small == mask else as_float(small)
+    parts = workers.map(chunks, lambda c, lo, hi: _scan(arr, lo, hi))
     bad = sum(p[0] for p in parts)
     if bad:
         first = min(p[1] for p in parts if p[0])
         raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
     return max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf)
+
+
+# float dtype -> (signed int of its width, mask of all but the sign bit,
+# bit pattern of inf)
+_BITS = {np.dtype(np.float64): (np.int64, np.int64(0x7FFF_FFFF_FFFF_FFFF),
+                                np.int64(0x7FF0_0000_0000_0000)),
+         np.dtype(np.float32): (np.int32, np.int32(0x7FFF_FFFF), np.int32(0x7F80_0000))}
+
+
+@njit(cache=True, nogil=True)
+def _scan_bits(ints, lo, hi, mask, inf):
+    """Over ints[lo:hi], float coordinates as signed ints of their bits:
+    (whether one is NaN or inf, the bits of max |v|, of min nonzero |v|;
+    ``mask`` when all are zero).  With the sign bit cleared, the patterns of
+    finite floats are ordered as their magnitudes, so the loop is integer
+    compares, which vectorize (float min and max do not, for NaN's sake:
+    1M points, 3.3 -> 0.8 ms)."""
+    nonfinite = False
+    big = mask - mask
+    small = mask
+    for k in range(lo, hi):
+        b = ints[u(k)] & mask
+        nonfinite |= b >= inf
+        big = max(big, b)
+        small = min(small, b if b != 0 else mask)
+    return nonfinite, big, small
 
 
 @njit(cache=True, nogil=True)
@@ -139,8 +180,8 @@ def window_exponent(big, small, max_exp, min_ulp_exp):
 def exact_coordinates2d(points):
     """float64 coordinates, rescaled by an exact power of two so that the
     predicates are exact on them."""
-    x, y, s = coordinates2d(points)
-    return x.astype(np.float64) * 2.0 ** s, y.astype(np.float64) * 2.0 ** s
+    pts, s = coordinates2d(points)
+    return pts[:, 0].astype(np.float64) * 2.0 ** s, pts[:, 1].astype(np.float64) * 2.0 ** s
 
 
 def exact_points(points, dims, copy=True):

@@ -63,25 +63,39 @@ def interleave(x32, y32):
     return (spread_bits(x32) << _S1) | spread_bits(y32)
 
 
-@njit(cache=True, nogil=True)
-def morton_keys32_into(x, y, keys, lo, hi):
-    """64-bit keys of float32 points [lo, hi) into ``keys``."""
-    xb = x.view(np.uint32)
-    yb = y.view(np.uint32)
-    for i in range(lo, hi):
-        keys[u(i)] = interleave(_U64(ordered_bits32(xb[u(i)])), _U64(ordered_bits32(yb[u(i)])))
+# The kernels read ``bits``, the (n, 2) unsigned view of C-contiguous points,
+# flat: a point's x and y side by side at 2i and 2i + 1, a stride the compiler
+# sees (``bits[i, 0]`` multiplies by the run-time shape), so that it
+# vectorizes the loop (1M float64 points, warm: 5.0 ms from strided column
+# views or 2D indexing, 2.2 ms flat).
 
 
 @njit(cache=True, nogil=True)
-def morton_keys64_into(x, y, khi, klo, lo, hi):
-    """128-bit keys of float64 points [lo, hi) into (khi, klo)."""
-    xb = x.view(np.uint64)
-    yb = y.view(np.uint64)
+def morton_keys32_into(bits, keys, lo, hi):
+    """64-bit keys of float32 points [lo, hi) into ``keys``; ``bits`` (n, 2)
+    uint32."""
+    flat = bits.reshape(-1)
     for i in range(lo, hi):
-        ox = ordered_bits64(xb[u(i)])
-        oy = ordered_bits64(yb[u(i)])
+        keys[u(i)] = interleave(_U64(ordered_bits32(flat[u(2 * i)])),
+                                _U64(ordered_bits32(flat[u(2 * i + 1)])))
+
+
+@njit(cache=True, nogil=True)
+def morton_keys64_into(bits, khi, klo, lo, hi):
+    """128-bit keys of float64 points [lo, hi) into (khi, klo); ``bits``
+    (n, 2) uint64."""
+    flat = bits.reshape(-1)
+    for i in range(lo, hi):
+        ox = ordered_bits64(flat[u(2 * i)])
+        oy = ordered_bits64(flat[u(2 * i + 1)])
         khi[u(i)] = interleave(ox >> _S32, oy >> _S32)
         klo[u(i)] = interleave(ox & _LOW32, oy & _LOW32)
+
+
+def point_bits(x, y, dtype):
+    """The (n, 2) unsigned bit view of the points (x, y) as ``dtype``."""
+    pts = np.column_stack((x, y)).astype(dtype, copy=False)
+    return pts.view(np.uint64 if pts.dtype == np.float64 else np.uint32)
 
 
 def ordered_bits(values):
@@ -107,7 +121,7 @@ def from_ordered_bits(bits, dtype):
 def morton_keys32(x, y):
     """64-bit keys of float32 coordinate arrays."""
     keys = np.empty(x.shape[0], dtype=np.uint64)
-    morton_keys32_into(x, y, keys, 0, x.shape[0])
+    morton_keys32_into(point_bits(x, y, np.float32), keys, 0, x.shape[0])
     return keys
 
 
@@ -115,5 +129,5 @@ def morton_keys64(x, y):
     """128-bit keys of float64 coordinate arrays, as (hi, lo)."""
     hi = np.empty(x.shape[0], dtype=np.uint64)
     lo = np.empty(x.shape[0], dtype=np.uint64)
-    morton_keys64_into(x, y, hi, lo, 0, x.shape[0])
+    morton_keys64_into(point_bits(x, y, np.float64), hi, lo, 0, x.shape[0])
     return hi, lo

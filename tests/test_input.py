@@ -8,6 +8,7 @@ import textwrap
 
 import numpy as np
 import pytest
+from hypothesis import given, strategies as st
 
 from lfqt import _input
 
@@ -86,3 +87,32 @@ def test_exact_points_shares_the_input_only_when_asked_and_unchanged(case, copy)
     shared = np.shares_memory(P, arr)
     assert shared == (not copy and case == "float64")
     assert (s != 0) == (case == "rescaled")
+
+
+_MAGNITUDES = st.one_of(st.just(0.0), st.just(-0.0), st.floats(allow_nan=False,
+                                                              allow_infinity=False),
+                        st.floats(-1e-300, 1e-300), st.floats(-2e-308, 2e-308))
+
+
+@given(st.lists(_MAGNITUDES, min_size=0, max_size=60), st.sampled_from([2, 3]),
+       st.sampled_from([np.float64, np.float32]), st.booleans())
+def test_bit_scan_finds_the_magnitudes_of_the_row_scan(values, d, dtype, strided):
+    """The extremes from the bit patterns (C-contiguous arrays) are the row
+    scan's, zeros, signed zeros, subnormals and float32 included."""
+    with np.errstate(over="ignore", under="ignore"):
+        arr = np.array(values[: len(values) // d * d], dtype=np.float64).astype(dtype)
+    arr = np.nan_to_num(arr, posinf=1.0, neginf=-1.0).reshape(-1, d)  # float32 overflow
+    if strided:
+        arr = np.repeat(arr, 2, axis=0)[::2]
+    assert arr.flags.c_contiguous != strided or len(arr) <= 1
+    _, _, big, small = _input._scan(arr, 0, len(arr))
+    assert _input._checked_magnitudes(arr) == (big, small)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_bit_scan_hands_nan_and_inf_to_the_row_report(dtype, bad):
+    arr = np.ones((7, 2), dtype=dtype)
+    arr[4, 1] = arr[6, 0] = bad
+    with pytest.raises(ValueError, match="in 2 rows; the first is row 4"):
+        _input._checked_magnitudes(arr)

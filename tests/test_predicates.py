@@ -404,7 +404,7 @@ def test_level_bounds_are_sound(sample):
     assume(level >= 0)
     bits, ebits, mbits, emin = (32, 8, 23, -126) if dtype == np.float32 else (64, 11, 52, -1022)
     try:
-        s = coordinates2d(np.c_[x, y].astype(dtype))[2]
+        s = coordinates2d(np.c_[x, y].astype(dtype))[1]
     except ValueError:
         assume(False)
     xs, ys = x * 2.0 ** s, y * 2.0 ** s

@@ -89,16 +89,16 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
         return _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf)
 
 
-def _sorted_points(x, y, scale_exp, workers, idx_dtype):
-    """Phase 1: Morton keys, radix sort, the gaps between adjacent keys, and
-    the points gathered in Morton order as float64 scaled by 2**scale_exp
-    (exact).  Returns (khi, klo, gaps, perm, P); khi is empty for 64-bit
-    keys."""
-    khi, klo, perm = sorted_keys(x, y, workers, idx_dtype)
-    gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
-    P = np.empty((x.shape[0], 2), dtype=np.float64)
-    workers.map(workers.chunks(x.shape[0]),
-                lambda c, lo, hi: output.gather_points(x, y, perm, 2.0 ** scale_exp, P, lo, hi))
+def _sorted_points(pts, scale_exp, workers, idx_dtype):
+    """Phase 1: Morton keys of the C-contiguous (n, 2) points ``pts``, radix
+    sort, the gaps between adjacent keys, and the points gathered in Morton
+    order as float64 scaled by 2**scale_exp (exact).  Returns (khi, klo,
+    gaps, perm, P); khi is empty for 64-bit keys."""
+    khi, klo, perm = sorted_keys(pts, workers, idx_dtype)
+    gaps = key_gaps(khi, klo, pts.dtype == np.float64, workers)
+    P = np.empty((pts.shape[0], 2), dtype=np.float64)
+    workers.map(workers.chunks(pts.shape[0]),
+                lambda c, lo, hi: output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi))
     return khi, klo, gaps, perm, P
 
 
@@ -111,22 +111,25 @@ def key_gaps(khi, klo, wide, workers):
     return gaps
 
 
-def sorted_keys(x, y, workers, idx_dtype):
-    """Morton keys of the points and their radix sort: (khi, klo, perm),
-    khi empty for 64-bit keys (float32 input)."""
-    n = x.shape[0]
+def sorted_keys(pts, workers, idx_dtype):
+    """Morton keys of the C-contiguous (n, 2) float32 or float64 points and
+    their radix sort: (khi, klo, perm), khi empty for 64-bit keys (float32
+    input)."""
+    n = pts.shape[0]
     chunks = workers.chunks(n)
     perm = np.empty(n, dtype=idx_dtype)
     workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
-    if x.dtype == np.float64:
+    if pts.dtype == np.float64:
+        bits = pts.view(np.uint64)
         khi = np.empty(n, dtype=np.uint64)
         klo_in = np.empty(n, dtype=np.uint64)
-        workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(x, y, khi, klo_in, lo, hi))
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(bits, khi, klo_in, lo, hi))
         khi, klo, perm = radix.sort_keys128(khi, klo_in, perm, workers)
         del klo_in
     else:
+        bits = pts.view(np.uint32)
         keys = np.empty(n, dtype=np.uint64)
-        workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(x, y, keys, lo, hi))
+        workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
         klo, perm = radix.sort_keys(keys, perm, workers)
         khi = klo[:0]
         del keys
@@ -173,12 +176,12 @@ def _serial(state, subdivision, counts):
 
 def _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf=None):
     t0 = time.perf_counter()
-    x, y, scale_exp = coordinates2d(points, workers)
-    n = x.shape[0]
+    pts, scale_exp = coordinates2d(points, workers)
+    n = pts.shape[0]
     t_validate = time.perf_counter()
-    khi, klo, gaps, perm, P = _sorted_points(x, y, scale_exp, workers, index_dtype(n))
-    dtype = x.dtype
-    del x, y  # P holds the coordinates from here on; peak memory matters at 10M+
+    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, index_dtype(n))
+    dtype = pts.dtype
+    del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
     state = _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter)

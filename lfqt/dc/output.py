@@ -35,15 +35,14 @@ AHEAD = 64
 
 
 @njit(cache=True, nogil=True)
-def gather_points(x, y, perm, scale, P, lo, hi):
-    """P[i] = (x, y)[perm[i]] * scale for i in [lo, hi): coordinates in
-    Morton order as float64 (an exact power-of-two scale); x and y of a point
-    share a cache line."""
+def gather_points(pts, perm, scale, P, lo, hi):
+    """P[i] = pts[perm[i]] * scale for i in [lo, hi): the (n, 2) points in
+    Morton order as float64 (an exact power-of-two scale)."""
     for i in range(lo, hi):
-        prefetch(x, np.int64(perm[u(min(i + AHEAD, hi - 1))]))
+        prefetch(pts, np.int64(perm[u(min(i + AHEAD, hi - 1))]))
         j = u(perm[u(i)])
-        P[u(i), 0] = np.float64(x[j]) * scale
-        P[u(i), 1] = np.float64(y[j]) * scale
+        P[u(i), 0] = np.float64(pts[j, 0]) * scale
+        P[u(i), 1] = np.float64(pts[j, 1]) * scale
 
 
 BLOCK = 64  # slots per word of the bitmask of real slots (lfqt.indexing.bit)

@@ -99,7 +99,7 @@ def quadtree(points):
     x, y = arr[:, 0], arr[:, 1]
     n = x.shape[0]
     workers = Workers(1)
-    khi, klo, perm = sorted_keys(x, y, workers, index_dtype(n))
+    khi, klo, perm = sorted_keys(np.ascontiguousarray(arr), workers, index_dtype(n))
     gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
     nops = subdivide.subdivide_lfqt(gaps, 0, n, ops, 0)
