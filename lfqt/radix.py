@@ -136,9 +136,9 @@ def sort_keys(keys, perm, workers, leaf=MSD_LEAF):
     share = max(leaf, n // (2 * workers.threads))
     pending, ready = [(0, n, 63, False)], []
     while pending:
-        a, b, d, in_buf = pending.pop()
-        if b - a <= share or d < 0:  # d < 0: all keys equal (nothing to split)
-            ready.append((a, b, d, in_buf))
+        a, b, h, in_buf = pending.pop()  # h: the highest bit that may vary
+        if b - a <= share or h < 0:  # h < 0: all keys equal (nothing to split)
+            ready.append((a, b, h, in_buf))
         else:
             pending += _split_parallel(keys, perm, key_buf, perm_buf, a, b, in_buf, workers)
     # largest first, each to the least loaded of 4 batches per thread

@@ -297,10 +297,10 @@ def _box(P, parts, lt, rt):
 
 
 @njit(cache=True, inline="always")
-def _union_extremes(P, parts, lt, rt, x_split):
-    """The extremes of the union of partitions lt and rt, into row lt: along
-    the split axis each side holds one by construction, across it the larger,
-    picked by a select (layout.before)."""
+def _union_extremes(P, parts, lt, rt, x_split, small):
+    """The extremes of the union of partitions lt and rt, into row lt, with
+    its SMALL: along the split axis each side holds one by construction,
+    across it the larger, picked by a select (layout.before)."""
     if x_split:
         parts[lt, XMAX] = parts[rt, XMAX]
         keep_max, keep_min, axis = YMAX, YMIN, 1
@@ -311,7 +311,7 @@ def _union_extremes(P, parts, lt, rt, x_split):
     parts[lt, keep_max] = b if before(P, a, b, axis) else a
     a, b = parts[lt, keep_min], parts[rt, keep_min]
     parts[lt, keep_min] = b if before(P, b, a, axis) else a
-    parts[lt, SMALL] = 0
+    parts[lt, SMALL] = small
 
 
 @njit(cache=True, inline="always")
@@ -376,10 +376,10 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
     (A, A + 1: the merge's slots; l, r: the base's ends): (built, the
     result's SMALL, orient calls, in-circle calls).
 
-    Base cases are 54% of all merges on uniform points: two lone vertices
-    make an edge, a lone vertex and such an edge a triangle (one orient test
-    where the merge makes four; 1M uniform: 158 -> 151 ms), and four points,
-    two edges or a lone vertex and a triangle, come from three or four
+    Two lone vertices make an edge, a lone vertex and such an edge a
+    triangle (one orient test where the merge makes four; 1M uniform: 158
+    -> 151 ms): 54% of all merges on uniform points.  Four points, two edges
+    or a lone vertex and a triangle (another tenth), come from three or four
     orient tests and at most one in-circle test (_four).  Where three of the
     points are collinear the general merge takes over."""
     small_l, small_r = parts[lt, SMALL], parts[rt, SMALL]
@@ -387,8 +387,8 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
     if pair == 1:
         _edge_of_two(T, ghost_out, A, l, r)
         return True, 2, 0, 0
+    side, v = (rt, l) if small_l == 1 else (lt, r)  # pairs 2 and 3: a lone vertex v beside side
     if pair == 2:
-        side, v = (rt, l) if small_l == 1 else (lt, r)
         a, b = parts[side, XMIN], parts[side, XMAX]
         o, st = _orient(P, a, b, v, CCW_A, np.inf)
         tally_undecided(counts, ORIENT, st)
@@ -411,8 +411,7 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
         if o < 0.0:
             x, y = y, x
         tested = 1
-    else:  # a triangle's vertices, counter-clockwise along its ghosts, and a lone vertex
-        side, v = (lt, r) if small_l == 3 else (rt, l)
+    else:  # the triangle's vertices, counter-clockwise along its ghosts
         x = parts[side, XMIN]
         s1 = ghost_out[u(x)]
         y = T[slot(s1, 0)]
@@ -471,16 +470,15 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
         l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
         r = parts[rt, XMIN if x_split else YMIN]
-        single_l, single_r = parts[lt, SMALL] == 1, parts[rt, SMALL] == 1
         A = 2 * (op - 1)  # the merge's two triangle slots, A and A + 1
         built, small, oc, ic = _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A)
         o_calls += oc
         i_calls += ic
         if built:
-            _union_extremes(P, parts, lt, rt, x_split)
-            parts[lt, SMALL] = small
+            _union_extremes(P, parts, lt, rt, x_split, small)
             top -= 1
             continue
+        single_l, single_r = parts[lt, SMALL] == 1, parts[rt, SMALL] == 1
         ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
         wx, wy = _box(P, parts, lt, rt)
         ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
@@ -532,7 +530,7 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             set_triangle(T, A, l, r, GHOST)
         ghost_out[u(l_bottom)] = B
         ghost_out[u(r)] = A
-        _union_extremes(P, parts, lt, rt, x_split)
+        _union_extremes(P, parts, lt, rt, x_split, 0)
         top -= 1
     counts[ORIENT] += o_calls
     counts[INCIRCLE] += i_calls
