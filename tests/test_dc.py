@@ -10,6 +10,7 @@ import scipy.spatial
 from hypothesis import given, strategies as st
 
 import lfqt
+from lfqt.predicates.planar import orient2d_exact
 from conftest import triangle_set, triangulate_verified
 
 SUBDIVISIONS = ["lfqt", "alternating"]
@@ -99,10 +100,6 @@ def test_three_points_are_the_merges_base_case(subdivision, rng):
     assert seen == {True, False}
 
 
-def _orientation(a, b, c):
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])  # exact: small integers
-
-
 @pytest.mark.parametrize("subdivision", SUBDIVISIONS)
 def test_four_points_are_the_merges_base_case(subdivision, rng):
     """Four points meet as two edges or as a lone vertex and a triangle, both
@@ -119,7 +116,7 @@ def test_four_points_are_the_merges_base_case(subdivision, rng):
             continue
         tri = triangulate_verified(pts, subdivision=subdivision, counters=True)
         counts = tri.stats["counts"]
-        collinear = any(_orientation(*pts[list(c)]) == 0
+        collinear = any(orient2d_exact(*pts[list(c)].ravel()) == 0.0
                         for c in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)))
         if collinear:
             assert counts["orientation_tests"] > 4 or tri.degenerate
