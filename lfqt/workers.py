@@ -1,4 +1,12 @@
-"""The thread pool of lfqt: nogil kernels over index ranges."""
+"""The thread pool of lfqt: nogil kernels over index ranges.
+
+The calling thread works too: ``each`` hands the items out one at a time
+to the caller and to threads - 1 pool threads, so that a parallel step
+costs one wake-up of a pool thread and no sleep of the caller (2 threads,
+two chunks of a trivial kernel: 102-124 -> 69-85 us a step, against 10 us
+inline; 1M uniform points on 2 threads, about 20 steps: 2-3 ms).  The pool keeps ``threads`` threads for schedules that submit
+to it directly (lfqt.dc.bins' tasks)."""
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 MIN_CHUNK = 1 << 16  # below this a chunk costs more to schedule than to run
@@ -29,6 +37,37 @@ class Workers:
 
     def map(self, chunks, fn):
         """[fn(c, lo, hi) for each chunk c = (lo, hi)], in parallel."""
-        if self.pool is None or len(chunks) == 1:
-            return [fn(c, lo, hi) for c, (lo, hi) in enumerate(chunks)]
-        return list(self.pool.map(lambda a: fn(a[0], *a[1]), enumerate(chunks)))
+        return self.each(lambda c: fn(c, *chunks[c]), range(len(chunks)))
+
+    def each(self, fn, items):
+        """[fn(item) for item in items], in parallel: the caller and up to
+        threads - 1 pool threads take the items in order, one at a time.
+        Every item has ended, or was skipped after an error, when this
+        returns; the first error is raised."""
+        items = list(items)
+        if self.pool is None or len(items) < 2:
+            return [fn(item) for item in items]
+        results = [None] * len(items)
+        errors = []
+        lock = threading.Lock()
+        pending = iter(range(len(items)))
+
+        def drain():
+            while not errors:
+                with lock:
+                    i = next(pending, None)
+                if i is None:
+                    return
+                try:
+                    results[i] = fn(items[i])
+                except BaseException as e:  # noqa: BLE001 - re-raised in the caller
+                    errors.append(e)
+
+        helpers = [self.pool.submit(drain)
+                   for _ in range(min(self.threads, len(items)) - 1)]
+        drain()
+        for h in helpers:
+            h.result()
+        if errors:
+            raise errors[0]
+        return results

@@ -3,6 +3,8 @@ schedule, errors in workers surface, and stats carry the Fig. 5 phases."""
 import subprocess
 import sys
 import textwrap
+import threading
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -131,14 +133,48 @@ def test_workers_chunking_covers_the_range():
         assert [c for c, _ in out] == list(range(len(out))) and sum(s for _, s in out) == 10 ** 6
 
 
+def test_workers_each_runs_every_item_once_on_the_caller_and_the_pool():
+    def slow(k):
+        time.sleep(0.002)  # long enough for the pool threads to wake up and take items
+        return k, threading.current_thread().name
+    with Workers(3) as w:
+        out = w.each(slow, range(40))
+    assert [k for k, _ in out] == list(range(40))
+    names = {name for _, name in out}
+    assert threading.main_thread().name in names and any(n.startswith("lfqt") for n in names)
+    with Workers(1) as w:
+        assert w.each(slow, [5])[0][1] == threading.main_thread().name
+
+
+def test_workers_each_raises_only_after_the_items_in_flight_end():
+    started, done = [], []
+    both = threading.Event()
+
+    def work(k):
+        if k == 0:  # fails once the two other items run on the other two threads
+            both.wait(10)
+            raise ValueError("item 0")
+        started.append(k)
+        if len(started) == 2:
+            both.set()
+        if threading.current_thread() is not threading.main_thread():
+            time.sleep(0.2)  # the pool's items outlast the caller's
+        done.append(k)
+    with Workers(3) as w:
+        with pytest.raises(ValueError, match="item 0"):
+            w.each(work, range(3))
+        assert sorted(done) == [1, 2]
+
+
 def test_levels_run_the_bins_largest_first_on_threads_then_each_height():
     # bins 0 [0, 10), 1 [10, 40), 3 [40, 60); merges 2 = 0 + 1, 4 = 2 + 3
     nodes = np.array([[0, 10, -1, -1, -1, -1], [10, 40, -1, -1, -1, -1], [0, 40, 10, 5, 0, 1],
                       [40, 60, -1, -1, -1, -1], [0, 60, 40, 6, 2, 3]])
-    in_turn = SimpleNamespace(map=map)  # a pool that runs its tasks in the order given
-    for pool, first in ((in_turn, [1, 3, 0]), (None, [0, 1, 3])):
+    # threads that run their items in the order given, and one thread
+    in_turn = SimpleNamespace(pool=object(), each=lambda fn, items: [fn(k) for k in items])
+    for workers, first in ((in_turn, [1, 3, 0]), (Workers(1), [0, 1, 3])):
         calls = []
-        bins._run_levels(bins._Tree(nodes), pool, lambda k: calls.append(("bin", k)),
+        bins._run_levels(bins._Tree(nodes), workers, lambda k: calls.append(("bin", k)),
                          lambda k: calls.append(("merge", k)))
         assert calls == [("bin", k) for k in first] + [("merge", 2), ("merge", 4)]
 

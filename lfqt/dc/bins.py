@@ -105,11 +105,11 @@ def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     if len(nodes) == 1:
         run_bin(0)
     elif workers.pool is None:  # one thread (the hybrid method): bins, then merges, in order
-        _run_levels(tree, None, run_bin, run_merge)
+        _run_levels(tree, workers, run_bin, run_merge)
     elif schedule == "tasks":
         _run_tasks(tree, workers.pool, run_bin, run_merge)
     elif schedule == "levels":
-        _run_levels(tree, workers.pool, run_bin, run_merge)
+        _run_levels(tree, workers, run_bin, run_merge)
     else:
         raise ValueError(f"schedule must be 'tasks' or 'levels', got {schedule!r}")
     wall = time.perf_counter() - t1
@@ -161,26 +161,21 @@ def _run_tasks(tree, pool, run_bin, run_merge):
         raise errors[0]
 
 
-def _run_levels(tree, pool, run_bin, run_merge):
+def _run_levels(tree, workers, run_bin, run_merge):
     """Barrier per level: all bins, then the merges of height 1, 2, ...  On
     threads the bins go largest first, so that no large bin is left to run
     alone at the end (1M uniform points on 2 threads, merge 0.097-0.102 ->
     0.090-0.092 s); on one thread (pool None) in address order.  A level of
-    one merge runs in the calling thread: a round trip through the pool
-    cost 0.05-0.2 ms, as much as the merge, on each of the 5-8 such levels
-    of 1M uniform points in 16 bins."""
+    one merge runs in the calling thread (Workers.each): a round trip
+    through the pool cost 0.05-0.2 ms, as much as the merge, on each of the
+    5-8 such levels of 1M uniform points in 16 bins."""
     nodes = tree.nodes
     height = np.zeros(len(nodes), dtype=np.int64)
     for k in range(len(nodes)):  # post-order: children before parents
         if nodes[k, 2] >= 0:
             height[k] = 1 + max(height[nodes[k, 4]], height[nodes[k, 5]])
-    each = pool.map if pool is not None else map
-    order = (tree.bins if pool is None else
+    order = (tree.bins if workers.pool is None else
              sorted(tree.bins, key=lambda k: nodes[k, 0] - nodes[k, 1]))  # by -(hi - lo)
-    list(each(run_bin, order))
+    workers.each(run_bin, order)
     for h in range(1, int(height.max()) + 1):
-        level = np.flatnonzero(height == h)
-        if len(level) == 1:  # the top of the tree, one merge per level: no pool round trip
-            run_merge(level[0])
-        else:
-            list(each(run_merge, level))
+        workers.each(run_merge, np.flatnonzero(height == h))
