@@ -2,10 +2,11 @@
 
 The calling thread works too: ``each`` hands the items out one at a time
 to the caller and to threads - 1 pool threads, so that a parallel step
-costs one wake-up of a pool thread and no sleep of the caller (2 threads,
-two chunks of a trivial kernel: 102-124 -> 69-85 us a step, against 10 us
-inline; 1M uniform points on 2 threads, about 20 steps: 2-3 ms).  The pool keeps ``threads`` threads for schedules that submit
-to it directly (lfqt.dc.bins' tasks)."""
+costs one wake-up of a pool thread and no sleep of the caller.  Two
+threads, two chunks of a trivial kernel: 102-124 -> 69-85 us a step,
+against 10 us inline; a 1M call on 2 threads takes about 20 steps.  The
+pool keeps ``threads`` threads for the schedules that submit to it
+directly (lfqt.dc.bins' tasks)."""
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
