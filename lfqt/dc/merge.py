@@ -315,20 +315,29 @@ def _union_extremes(P, parts, lt, rt, x_split, small):
 
 
 @njit(cache=True, inline="always")
-def _walk(T, P, counts, l, r, g, s, ccwb, ccws):
-    """One step of side s's end of the base l -> r toward the lower common
-    tangent, g being the ghost at that end (< 0: a lone vertex, no test):
-    (moved, the end, its ghost, whether it made an orient test; an undecided
-    stage 1 goes to ``counts``)."""
-    end = l if s == 0 else r
-    if g < 0:
-        return False, end, g, False
+def _ahead(T, P, g, s):
+    """The vertex the tangent walk of side s would move to from ghost g
+    (g >= 0), with its coordinates, and the ghost it would then be at."""
     c = T[slot(g, 1 - s)]
-    o, st = _orient(P, l, r, c, ccwb, ccws)
+    return c, P[u(c), 0], P[u(c), 1], tri(T[slot(g, 4 + s)])
+
+
+@njit(cache=True, inline="always")
+def _walk(T, P, counts, lx, ly, rx, ry, g, c, cx, cy, h, s, ccwb, ccws):
+    """One step of side s's end of the base l -> r (coordinates lx ... ry)
+    toward the lower common tangent, g being the ghost at that end (< 0: a
+    lone vertex, no test) and (c, cx, cy, h) = _ahead(g): (moved, the step's
+    state after it, whether it made an orient test; an undecided stage 1
+    goes to ``counts``).  The next step's vertex is loaded before this
+    step's test decides."""
+    if g < 0:
+        return False, g, c, cx, cy, h, False
+    nc, ncx, ncy, nh = _ahead(T, P, h, s)
+    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
     tally_undecided(counts, ORIENT, st)
     if o < 0.0:
-        return True, c, tri(T[slot(g, 4 + s)]), True
-    return False, end, g, True
+        return True, h, nc, ncx, ncy, nh, True
+    return False, g, c, cx, cy, h, True
 
 
 @njit(cache=True, inline="always")
@@ -500,25 +509,35 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
         gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
         gr = -1 if single_r else ghost_out[u(r)]
+        # The base's and the candidates' coordinates stay in registers: the
+        # predicates on the critical path then load only the point they
+        # test, and each walk step loads the next one's point before its own
+        # test decides (1M uniform, merge minima 131.4-132.6 -> 127.3-130.4
+        # ms, same counts).
+        lx, ly = P[u(l), 0], P[u(l), 1]
+        rx, ry = P[u(r), 0], P[u(r), 1]
+        cl, clx, cly, hl = _ahead(T, P, gl, 0) if gl >= 0 else (-1, 0.0, 0.0, -1)
+        cr, crx, cry, hr = _ahead(T, P, gr, 1) if gr >= 0 else (-1, 0.0, 0.0, -1)
         while True:  # lower common tangent: l walks clockwise, r counter-clockwise
-            moved, l, gl, tested = _walk(T, P, counts, l, r, gl, 0, ccwb, ccws)
+            moved, gl2, cl2, clx2, cly2, hl2, tested = _walk(T, P, counts, lx, ly, rx, ry, gl, cl,
+                                                             clx, cly, hl, 0, ccwb, ccws)
             o_calls += tested
             if moved:
+                l, lx, ly = cl, clx, cly
+                gl, cl, clx, cly, hl = gl2, cl2, clx2, cly2, hl2
                 continue
-            moved, r, gr, tested = _walk(T, P, counts, l, r, gr, 1, ccwb, ccws)
+            moved, gr2, cr2, crx2, cry2, hr2, tested = _walk(T, P, counts, lx, ly, rx, ry, gr, cr,
+                                                             crx, cry, hr, 1, ccwb, ccws)
             o_calls += tested
             if not moved:
                 break
+            r, rx, ry = cr, crx, cry
+            gr, cr, crx, cry, hr = gr2, cr2, crx2, cry2, hr2
         B = A + 1
         _splice(T, A, B, l, r)
         _splice_side(T, A, B, gl, 0)
         _splice_side(T, A, B, gr, 1)
         l_bottom = l
-        # The base's and the candidates' coordinates stay in registers: the
-        # predicates on the bubble's critical path then load only the point
-        # they test.
-        lx, ly = P[u(l), 0], P[u(l), 1]
-        rx, ry = P[u(r), 0], P[u(r), 1]
         # Each side's state (_side) is carried from step to step, and only
         # the side that advanced loads it again: a cross edge writes the
         # vertices of A and the new A and link entries, never the other
