@@ -55,7 +55,7 @@ def popcount(typingctx, v):
 
 @intrinsic
 def prefetch(typingctx, arr, i):
-    """Ask the caches for row i of a 2D array before it is read
+    """Ask the caches for row i of an array (item i of a 1D one) before it is read
     (llvm.prefetch: a read, kept in every level).  A hint: it never faults,
     whatever i is, and changes no result."""
     def codegen(context, builder, signature, args):
