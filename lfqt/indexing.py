@@ -55,9 +55,9 @@ def popcount(typingctx, v):
 
 @intrinsic
 def prefetch(typingctx, arr, i):
-    """Ask the caches for row i of an array (item i of a 1D one) before it is read
-    (llvm.prefetch: a read, kept in every level).  A hint: it never faults,
-    whatever i is, and changes no result."""
+    """Ask the caches for row i of an array (item i of a 1D one) before it
+    is read (llvm.prefetch: a read, kept in every level).  A hint: it never
+    faults, whatever i is, and changes no result."""
     def codegen(context, builder, signature, args):
         aty = signature.args[0]
         ary = context.make_array(aty)(context, builder, args[0])

@@ -351,12 +351,12 @@ def _commit(counts, pending):
 # 10% of the 3D kernel's samples (1M cube, Kd order, 6 interleaved series of
 # 3: their medians 3.32-3.53 -> 3.29-3.52 s, the median of those 3.51 ->
 # 3.36).  A stack entry is a cell and the faces it has left to look across,
-# as (count << 2) | next slot.  In 2D a cell entered from x looks across its two other edges in
-# counter-clockwise order, x's slot + 1 then + 2: the cavity's cells form a
-# tree (no vertex is inside it), so the boundary edges come out in
-# counter-clockwise order around p, which glues the new triangles in a ring
-# without a table.  With p in x, below the edge a-b, counter-clockwise
-# around p runs from a (right) over w to b (left):
+# as (count << 2) | next slot.  In 2D a cell entered from x looks across its
+# two other edges in counter-clockwise order, x's slot + 1 then + 2: the
+# cavity's cells form a tree (no vertex is inside it), so the boundary edges
+# come out in counter-clockwise order around p, which glues the new
+# triangles in a ring without a table.  With p in x, below the edge a-b,
+# counter-clockwise around p runs from a (right) over w to b (left):
 #
 #              w          y, entered across b-a from x:
 #            /   \          its slot j+1: edge a-w, then
