@@ -323,21 +323,22 @@ def _ahead(T, P, g, s):
 
 
 @njit(cache=True, inline="always")
-def _walk(T, P, counts, lx, ly, rx, ry, g, c, cx, cy, h, s, ccwb, ccws):
+def _walk(T, P, counts, l, lx, ly, r, rx, ry, g, c, cx, cy, h, s, ccwb, ccws):
     """One step of side s's end of the base l -> r (coordinates lx ... ry)
     toward the lower common tangent, g being the ghost at that end (< 0: a
-    lone vertex, no test) and (c, cx, cy, h) = _ahead(g): (moved, the step's
-    state after it, whether it made an orient test; an undecided stage 1
-    goes to ``counts``).  The next step's vertex is loaded before this
-    step's test decides."""
+    lone vertex, no test) and (c, cx, cy, h) = _ahead(g): (moved, the end
+    and its coordinates, g, c, cx, cy, h after the step, whether it made an
+    orient test; an undecided stage 1 goes to ``counts``).  The next step's
+    vertex is loaded before this step's test decides."""
+    end, ex, ey = (l, lx, ly) if s == 0 else (r, rx, ry)
     if g < 0:
-        return False, g, c, cx, cy, h, False
+        return False, end, ex, ey, g, c, cx, cy, h, False
     nc, ncx, ncy, nh = _ahead(T, P, h, s)
     o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
     tally_undecided(counts, ORIENT, st)
     if o < 0.0:
-        return True, h, nc, ncx, ncy, nh, True
-    return False, g, c, cx, cy, h, True
+        return True, c, cx, cy, h, nc, ncx, ncy, nh, True
+    return False, end, ex, ey, g, c, cx, cy, h, True
 
 
 @njit(cache=True, inline="always")
@@ -519,20 +520,16 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         cl, clx, cly, hl = _ahead(T, P, gl, 0) if gl >= 0 else (-1, 0.0, 0.0, -1)
         cr, crx, cry, hr = _ahead(T, P, gr, 1) if gr >= 0 else (-1, 0.0, 0.0, -1)
         while True:  # lower common tangent: l walks clockwise, r counter-clockwise
-            moved, gl2, cl2, clx2, cly2, hl2, tested = _walk(T, P, counts, lx, ly, rx, ry, gl, cl,
-                                                             clx, cly, hl, 0, ccwb, ccws)
+            moved, l, lx, ly, gl, cl, clx, cly, hl, tested = _walk(
+                T, P, counts, l, lx, ly, r, rx, ry, gl, cl, clx, cly, hl, 0, ccwb, ccws)
             o_calls += tested
             if moved:
-                l, lx, ly = cl, clx, cly
-                gl, cl, clx, cly, hl = gl2, cl2, clx2, cly2, hl2
                 continue
-            moved, gr2, cr2, crx2, cry2, hr2, tested = _walk(T, P, counts, lx, ly, rx, ry, gr, cr,
-                                                             crx, cry, hr, 1, ccwb, ccws)
+            moved, r, rx, ry, gr, cr, crx, cry, hr, tested = _walk(
+                T, P, counts, l, lx, ly, r, rx, ry, gr, cr, crx, cry, hr, 1, ccwb, ccws)
             o_calls += tested
             if not moved:
                 break
-            r, rx, ry = cr, crx, cry
-            gr, cr, crx, cry, hr = gr2, cr2, crx2, cry2, hr2
         B = A + 1
         _splice(T, A, B, l, r)
         _splice_side(T, A, B, gl, 0)
