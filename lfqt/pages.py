@@ -52,11 +52,17 @@ def empty(shape, dtype, huge=True):
     nbytes = count * dtype.itemsize
     if nbytes < SMALLEST:
         return np.empty(shape, dtype=dtype)
+    return np.frombuffer(mapping(nbytes, huge), dtype=dtype, count=count).reshape(shape)
+
+
+def mapping(nbytes, huge=True):
+    """A fresh private anonymous mapping of ``nbytes`` (an mmap object),
+    advised to use transparent huge pages or not to."""
     buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
     advice = getattr(mmap, "MADV_HUGEPAGE" if huge else "MADV_NOHUGEPAGE", None)
     if advice is not None:
         buf.madvise(advice)
-    return np.frombuffer(buf, dtype=dtype, count=count).reshape(shape)
+    return buf
 
 
 def huge_pays(nbytes):

@@ -120,16 +120,17 @@ def radix_sort_range(keys, perm, lo, hi, key_buf, perm_buf):
     return passes
 
 
-def sort_keys(keys, perm, workers, leaf=MSD_LEAF):
+def sort_keys(keys, perm, workers, leaf=MSD_LEAF, scratch=None):
     """Stable sort of uint64 ``keys`` carrying ``perm`` (msd_sort_range), in
     place, over ``workers`` (lfqt.workers.Workers): ranges larger than a
     thread's share are split in parallel (each split by chunks of the range),
-    then the ranges are sorted on the threads, largest first.  Returns (keys,
-    perm)."""
+    then the ranges are sorted on the threads, largest first.  ``scratch``:
+    arrays like keys and perm to sort through (default: new ones).  Returns
+    (keys, perm)."""
     n = keys.shape[0]
     if n < 2:
         return keys, perm
-    key_buf, perm_buf = np.empty_like(keys), np.empty_like(perm)
+    key_buf, perm_buf = scratch or (np.empty_like(keys), np.empty_like(perm))
     if len(workers.chunks(n)) == 1:
         msd_sort_range(keys, perm, 0, n, key_buf, perm_buf, 63, False, leaf)
         return keys, perm
@@ -315,18 +316,19 @@ def order_runs(shi, src, perm, slo, lo, hi):
         i = end
 
 
-def sort_keys128(hi, lo, perm, workers):
+def sort_keys128(hi, lo, perm, workers, scratch=None, slo=None):
     """Stable sort of 128-bit keys given as (hi, lo) uint64 arrays carrying
-    ``perm``: radix on ``hi`` over ``workers``, then each run of equal ``hi``
-    ordered by ``lo``.  Returns (sorted_hi, sorted_lo, perm); ``hi`` and
-    ``perm`` are sorted in place.
+    ``perm``: radix on ``hi`` over ``workers`` (through ``scratch``, as
+    sort_keys), then each run of equal ``hi`` ordered by ``lo`` into ``slo``
+    (default: a new array).  Returns (sorted_hi, sorted_lo, perm); ``hi``
+    and ``perm`` are sorted in place.
 
     A low word only ever tells apart keys whose high words are equal, so
     sorted_lo is written inside runs of equal high words alone (elsewhere it
     holds garbage, which its readers never look at: lfqt.dc.subdivide).  On
     float64 input runs are rare, so this saves a random gather of 8 bytes
     per point, and the untouched pages."""
-    shi, perm = sort_keys(hi, perm, workers)
-    slo = np.empty(len(lo), dtype=np.uint64)
+    shi, perm = sort_keys(hi, perm, workers, scratch=scratch)
+    slo = np.empty(len(lo), dtype=np.uint64) if slo is None else slo
     workers.map(workers.chunks(len(lo)), lambda c, a, b: order_runs(shi, lo, perm, slo, a, b))
     return shi, slo, perm

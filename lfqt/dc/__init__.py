@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from .. import morton, pages, radix
+from .. import morton, pages, radix, workspace
 from .._input import FORMATS, coordinates2d, index_dtype
 from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
@@ -89,15 +89,52 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
         return _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf)
 
 
-def _sorted_points(pts, scale_exp, workers, idx_dtype):
+def _memory(n, idx):
+    """The call's two large mappings (lfqt.workspace), each home in turn to
+    arrays whose lives do not overlap, so that the phases of a call write
+    the same pages one after the other instead of a fresh set each (and
+    its peak memory is no higher)::
+
+        slots   [ khi | klo_in | key_buf | perm_buf | slo ]  phase 1: the sort's scratch
+                [ T: 6 entries a triangle slot ......... ]  phases 2-3, the keys dropped
+                [ neighbors (m, 3) ]                         the output, in T's memory
+        points  [ P: (n, 2) float64 | ops: 2n ]              phases 1-3
+                [ simplices (m, 3) ]                         the output (m < 2n)
+
+    The sort's scratch is sized for 128-bit keys, the larger.  Returns
+    (slots, points), uint8 arrays."""
+    t_type = np.dtype(t_dtype(n))
+    t_bytes = 6 * max(2 * (n - 1), 0) * t_type.itemsize
+    slots = workspace.empty(max(t_bytes, workspace.view_bytes(*_sort_specs(n, idx, True))),
+                            np.uint8)
+    points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
+                                 3 * 2 * n * np.dtype(idx).itemsize), np.uint8)
+    return slots, points
+
+
+def _sort_specs(n, idx, wide):
+    """The sort's scratch (workspace.views): the keys' (khi and klo_in for
+    128-bit keys, else one array), radix.sort_keys' two and the sorted low
+    words."""
+    keys = [(n, np.uint64), (n, np.uint64)] if wide else [(n, np.uint64)]
+    return keys + [(n, np.uint64), (n, idx)] + ([(n, np.uint64)] if wide else [])
+
+
+def _point_specs(n, idx):
+    return [(2 * n, np.float64), (max(2 * n, 1), idx)]
+
+
+def _sorted_points(pts, scale_exp, workers, idx_dtype, slots, points):
     """Phase 1: Morton keys of the C-contiguous (n, 2) points ``pts``, radix
-    sort, the gaps between adjacent keys, and the points gathered in Morton
-    order as float64 scaled by 2**scale_exp (exact).  Returns (khi, klo,
-    gaps, perm, P); khi is empty for 64-bit keys."""
-    khi, klo, perm = sorted_keys(pts, workers, idx_dtype)
+    sort in the scratch ``slots``, the gaps between adjacent keys, and the
+    points gathered in Morton order as float64 scaled by 2**scale_exp
+    (exact), in ``points`` (_memory).  Returns (khi, klo, gaps, perm, P);
+    khi is empty for 64-bit keys."""
+    n = pts.shape[0]
+    khi, klo, perm = sorted_keys(pts, workers, idx_dtype, slots)
     gaps = key_gaps(khi, klo, pts.dtype == np.float64, workers)
-    P = np.empty((pts.shape[0], 2), dtype=np.float64)
-    workers.map(workers.chunks(pts.shape[0]),
+    P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
+    workers.map(workers.chunks(n),
                 lambda c, lo, hi: output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi))
     return khi, klo, gaps, perm, P
 
@@ -105,58 +142,58 @@ def _sorted_points(pts, scale_exp, workers, idx_dtype):
 def key_gaps(khi, klo, wide, workers):
     """The uint8 gaps of sorted keys (lfqt.dc.subdivide.gap_bits)."""
     n = klo.shape[0]
-    gaps = np.empty(n, dtype=np.uint8)
+    gaps = workspace.empty(n, np.uint8)
     workers.map(workers.chunks(n),
                 lambda c, lo, hi: subdivide.gap_bits(khi, klo, wide, gaps, lo, hi))
     return gaps
 
 
-def sorted_keys(pts, workers, idx_dtype):
+def sorted_keys(pts, workers, idx_dtype, scratch=None):
     """Morton keys of the C-contiguous (n, 2) float32 or float64 points and
     their radix sort: (khi, klo, perm), khi empty for 64-bit keys (float32
-    input)."""
+    input).  The keys live in ``scratch`` (uint8, at least
+    workspace.view_bytes(*_sort_specs) bytes; default: a new array)."""
     n = pts.shape[0]
+    wide = pts.dtype == np.float64
+    specs = _sort_specs(n, idx_dtype, wide)
+    if scratch is None:
+        scratch = workspace.empty(workspace.view_bytes(*specs), np.uint8)
     chunks = workers.chunks(n)
-    perm = np.empty(n, dtype=idx_dtype)
+    perm = workspace.empty(n, idx_dtype)
     workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
-    if pts.dtype == np.float64:
+    if wide:
+        khi, klo_in, key_buf, perm_buf, slo = workspace.views(scratch, *specs)
         bits = pts.view(np.uint64)
-        khi = np.empty(n, dtype=np.uint64)
-        klo_in = np.empty(n, dtype=np.uint64)
         workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(bits, khi, klo_in, lo, hi))
-        khi, klo, perm = radix.sort_keys128(khi, klo_in, perm, workers)
-        del klo_in
-    else:
-        bits = pts.view(np.uint32)
-        keys = np.empty(n, dtype=np.uint64)
-        workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
-        klo, perm = radix.sort_keys(keys, perm, workers)
-        khi = klo[:0]
-        del keys
-    return khi, klo, perm
+        return radix.sort_keys128(khi, klo_in, perm, workers, (key_buf, perm_buf), slo)
+    keys, key_buf, perm_buf = workspace.views(scratch, *specs)
+    bits = pts.view(np.uint32)
+    workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
+    klo, perm = radix.sort_keys(keys, perm, workers, scratch=(key_buf, perm_buf))
+    return klo[:0], klo, perm
 
 
-def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter):
+def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, points):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
-    the sorted keys and points.  T is left unwritten: every slot a merge
-    owns is written by it, and the output tells the others by their split
-    position (output.mark_used), so no page of T is touched twice."""
+    the sorted keys and points, T and ops in the call's mappings (_memory).
+    T is not filled: every slot a merge owns is written by it, and the
+    output tells the others by their split position (output.mark_used).
+    The keys in T's memory are read no more once the merges start
+    (State.drop_keys)."""
     n = P.shape[0]
     idx = perm.dtype
-    slots, t_type = 6 * max(2 * (n - 1), 0), np.dtype(t_dtype(n))
-    # huge pages: the merge runs 7% faster, where they are not host-faulted
-    T = pages.empty(slots, t_type, pages.huge_pays(slots * t_type.itemsize))
+    T = workspace.views(slots, (6 * max(2 * (n - 1), 0), t_dtype(n)))[0]
+    ops = workspace.views(points, *_point_specs(n, idx))[1]
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
-    mesh = Mesh(P, T, np.empty(n, dtype=idx), fmt, level_filter)
-    return State(khi, klo, dtype == np.float64, mesh, np.empty(max(2 * n, 1), dtype=idx), gaps,
-                 gaps)
+    mesh = Mesh(P, T, workspace.empty(n, idx), fmt, level_filter)
+    return State(khi, klo, dtype == np.float64, mesh, ops, gaps, gaps)
 
 
 def _serial(state, subdivision, counts):
     """Phases 2 and 3 on one thread: (root partition row, phase seconds)."""
     n = state.n
-    state.drop_keys()  # peak memory: the gaps stand for the keys from here on
+    state.drop_keys()  # the gaps stand for the keys, in T's memory, from here on
     t0 = time.perf_counter()
     nops = 0
     if subdivision == "alternating" and n:
@@ -179,12 +216,15 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     pts, scale_exp = coordinates2d(points, workers)
     n = pts.shape[0]
     t_validate = time.perf_counter()
-    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, index_dtype(n))
+    slots, points_mem = _memory(n, index_dtype(n))
+    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, index_dtype(n), slots,
+                                             points_mem)
     dtype = pts.dtype
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
-    state = _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter)
+    state = _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, points_mem)
+    del slots  # T's array holds it from here on
     del P, khi, klo, gaps
     counts = new_counters()
     parallel_run = subdivision == "lfqt" and (workers.threads > 1 or hybrid_leaf) and n > 1
@@ -200,7 +240,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     t_merge = time.perf_counter()
     wide = state.wide
     simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
-        state, perm, root, workers)
+        state, perm, root, workers, points_mem)
     del state
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
@@ -232,30 +272,33 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
                          reason=reason)
 
 
-def _output(state, perm, root, workers):
+def _output(state, perm, root, workers, points_mem):
     """The real triangles in input indices, the hull loop and duplicate_of:
     (simplices, neighbors, hull, duplicate_of, n_distinct, reason the set is
     degenerate or "").  Takes the mesh out of ``state`` and builds
-    ``neighbors`` in T's own memory (lfqt.dc.output), so that T and a whole
-    result never coexist."""
+    ``neighbors`` in T's own memory (lfqt.dc.output), ``simplices`` in
+    P's and ops' (``points_mem``, _memory) and ``duplicate_of`` in
+    ghost_out's, so that no array of the mesh and of the result coexist."""
     T, ghost_out, gaps, codes = state.mesh.T, state.mesh.ghost_out, state.gaps, state.codes
-    state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # free P, ops
+    state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # P, ops
     n = len(perm)
     idx = perm.dtype
-    duplicate_of, n_distinct = _duplicate_of(gaps, perm, workers)
+    start = int(ghost_out[root[XMIN]]) if len(T) else -1  # a ghost of the hull ring
+    duplicate_of, n_distinct = _duplicate_of(gaps, perm, workers, ghost_out)
+    del ghost_out
     nblocks = -(-(len(T) // 6) // output.BLOCK)
     chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
     workers.map(chunks, lambda c, lo, hi: output.mark_used(codes, bits, counts, lo, hi))
     if len(T) and root[SMALL] != 1:
-        output.clear_ghosts(T, ghost_out[root[XMIN]], bits, counts)
+        output.clear_ghosts(T, start, bits, counts)
     first = np.zeros(nblocks + 1, dtype=np.int64)
     np.cumsum(counts, out=first[1:])
     m = int(first[-1])
     reason = ""
     if m:
-        hull = output.hull_loop(T, ghost_out[root[XMIN]], perm, perm[:1])
+        hull = output.hull_loop(T, start, perm, perm[:1])
     elif n == 0:
         hull, reason = np.empty(0, dtype=idx), "no points"
     elif root[SMALL] == 1:
@@ -263,8 +306,8 @@ def _output(state, perm, root, workers):
     else:
         hull = perm[[root[XMIN], root[XMAX]]]
         reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
-    del ghost_out, gaps, codes
-    simplices = np.empty((m, 3), dtype=idx)
+    del gaps, codes
+    simplices = workspace.views(points_mem, (3 * m, idx))[0].reshape(m, 3)
     lengths = workers.map(chunks, lambda c, lo, hi: output.write_rows(T, bits, first, perm,
                                                                       simplices, lo, hi))
     if min(lengths, default=0) < 0:
@@ -275,21 +318,20 @@ def _output(state, perm, root, workers):
     return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
 
 
-def _duplicate_of(gaps, perm, workers):
-    """(duplicate_of, number of distinct points): the identity when no key
-    repeats (the common case: a sequential write instead of a scatter to
-    the input order, 44.5 -> 9.7 ms at 10M on one thread), else each
-    point's first copy (output.duplicates_into); by ranges over
-    ``workers``."""
+def _duplicate_of(gaps, perm, workers, out):
+    """(duplicate_of, number of distinct points), written into ``out``: the
+    identity when no key repeats (the common case: a sequential write
+    instead of a scatter to the input order, 44.5 -> 9.7 ms at 10M on one
+    thread), else each point's first copy (output.duplicates_into); by
+    ranges over ``workers``."""
     n = len(perm)
     chunks = workers.chunks(n)
-    duplicate_of = np.empty(n, dtype=perm.dtype)
     if not any(workers.map(chunks, lambda c, lo, hi: output.has_copies(gaps, lo, hi))):
-        workers.map(chunks, lambda c, lo, hi: iota(duplicate_of, lo, hi))
-        return duplicate_of, n
+        workers.map(chunks, lambda c, lo, hi: iota(out, lo, hi))
+        return out, n
     n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(
-        gaps, perm, duplicate_of, lo, hi))))
-    return duplicate_of, n_distinct
+        gaps, perm, out, lo, hi))))
+    return out, n_distinct
 
 
 def _rows(T, m, idx):

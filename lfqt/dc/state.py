@@ -26,7 +26,8 @@ class State:
         return self.gaps.shape[0]
 
     def drop_keys(self):
-        """Free the keys: from here on the gaps stand for them."""
+        """Forget the keys: from here on the gaps stand for them, and the
+        merges write T over them (lfqt.dc._memory)."""
         self.khi = self.klo = None
 
     def subdivide(self, lo, hi, at):

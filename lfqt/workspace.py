@@ -1,0 +1,156 @@
+"""Scratch memory reused from call to call: the large temporaries of a
+triangulation (keys, permutations, the points in Morton order, the op list)
+come from a process-wide pool of anonymous mappings, and each goes back to
+the pool when the last array on it dies, for the next request to write
+pages that are already there instead of faulting in fresh ones.
+
+Without the pool, glibc hands a freed large block back to the system, and
+the next call pays a page fault per 4 KiB it writes (on a virtual machine,
+a fault on the host too); fresh huge pages fault less often but cost as
+much, for the kernel zeroes them.  Uniform points, one thread, calls back
+to back, each result freed before the next call (with lfqt.dc's two shared
+mappings, its ``_memory``)::
+
+                      1M: a call    page faults    10M: a call    peak RSS
+    numpy's memory    198-204 ms    4964           2.27-2.46 s    115 B/point
+    this pool         180-194 ms     238           1.92-1.96 s    115 B/point
+
+Each request takes the smallest idle mapping large enough, so that calls on
+the same number of points reuse the same mappings.  Memory is not held for
+long: a mapping idle for ``IDLE_SECONDS`` is unmapped by a timer thread,
+and so is any past ``LIMIT`` idle bytes; ``release()`` unmaps every idle
+mapping now.  A request that finds none large enough unmaps the idle
+mappings smaller than itself first (a call on other sizes), so that the
+pool never holds memory the call could have used beside what it maps.
+"""
+import os
+import threading
+import time
+import weakref
+
+import numpy as np
+
+from . import pages
+
+IDLE_SECONDS = 2.0  # an idle mapping is unmapped this long after its last use
+LIMIT = 2 << 30  # idle bytes the pool keeps at most
+
+
+class Pool:
+    """Idle mappings, lent out as arrays and taken back when the arrays die."""
+
+    def __init__(self, limit=LIMIT, idle_seconds=IDLE_SECONDS):
+        self.limit = limit
+        self.idle_seconds = idle_seconds
+        self._idle = []  # [size in bytes, time given back, mmap]
+        # reentrant: a finalizer may give a mapping back in the middle of
+        # any allocation, this pool's own included (a collection of cycles)
+        self._lock = threading.RLock()
+        self._timer = None
+
+    def empty(self, shape, dtype):
+        """An uninitialized C-contiguous array, on an idle mapping of the
+        pool or a fresh one (lfqt.pages), on huge pages where they pay
+        (pages.huge_pays; the merges run 7% faster on them); arrays under
+        pages.SMALLEST bytes come from numpy."""
+        dtype = np.dtype(dtype)
+        count = int(np.prod(shape))
+        nbytes = count * dtype.itemsize
+        if nbytes < pages.SMALLEST:
+            return np.empty(shape, dtype=dtype)
+        buf = self._take(nbytes)
+        if buf is None:
+            buf = pages.mapping(nbytes, pages.huge_pays(nbytes))
+        base = np.frombuffer(buf, dtype=dtype, count=count)
+        # when base dies, every view of it has died: the mapping is free
+        weakref.finalize(base, self._give, buf).atexit = False
+        return base.reshape(shape)
+
+    def idle_bytes(self):
+        with self._lock:
+            return sum(entry[0] for entry in self._idle)
+
+    def release(self):
+        """Unmap every idle mapping (they are unmapped once nothing refers to
+        them)."""
+        with self._lock:
+            self._idle.clear()
+
+    def _take(self, nbytes):
+        with self._lock:
+            fits = [e for e in self._idle if e[0] >= nbytes]
+            if not fits:  # all smaller: a call on other sizes
+                self._idle = []
+                return None
+            best = min(fits, key=lambda e: e[0])
+            self._idle.remove(best)
+            return best[2]
+
+    def _give(self, buf):
+        with self._lock:
+            if sum(e[0] for e in self._idle) + len(buf) > self.limit:
+                return  # dropped: unmapped when its last reference goes
+            self._idle.append([len(buf), time.monotonic(), buf])
+            if self._timer is None:
+                self._arm(self.idle_seconds)
+
+    def _arm(self, delay):
+        self._timer = threading.Timer(delay, self._expire)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _expire(self):
+        with self._lock:
+            now = time.monotonic()
+            self._idle = [e for e in self._idle if now - e[1] < self.idle_seconds]
+            self._timer = None
+            if self._idle:
+                self._arm(max(0.0, min(e[1] for e in self._idle) + self.idle_seconds - now))
+
+
+    def _after_fork(self):
+        """In a forked child: the parent's timer thread is gone."""
+        self._lock = threading.RLock()
+        self._timer = None
+        if self._idle:
+            self._arm(self.idle_seconds)
+
+
+def views(buf, *specs):
+    """Consecutive arrays in the bytes of ``buf`` (a 1D uint8 array), one per
+    (count, dtype) of ``specs``, each at a 64-byte aligned offset: arrays
+    whose lives do not overlap those of other views of buf share a mapping.
+    Raises ValueError when buf is too short."""
+    out, at = [], 0
+    for count, dtype in specs:
+        dtype = np.dtype(dtype)
+        end = at + count * dtype.itemsize
+        if end > buf.shape[0]:
+            raise ValueError(f"{buf.shape[0]} bytes hold no {count} x {dtype} at {at}")
+        out.append(buf[at:end].view(dtype))
+        at = -(-end // 64) * 64
+    return out
+
+
+def view_bytes(*specs):
+    """The bytes ``views`` needs for ``specs``."""
+    at = 0
+    for count, dtype in specs:
+        at = -(-(at + count * np.dtype(dtype).itemsize) // 64) * 64
+    return at
+
+
+POOL = Pool()
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=POOL._after_fork)
+
+
+def empty(shape, dtype):
+    """POOL.empty: scratch for one call's temporaries."""
+    return POOL.empty(shape, dtype)
+
+
+def release():
+    """Unmap the pool's idle mappings now, rather than IDLE_SECONDS after
+    their last use."""
+    POOL.release()

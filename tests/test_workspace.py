@@ -1,0 +1,164 @@
+"""lfqt.workspace: mappings lent as arrays, taken back when the last view
+dies, reused best-fit, unmapped when idle; and the views that share one."""
+import gc
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import lfqt
+from lfqt import pages, workspace
+
+MB = 1 << 20
+
+
+def _address(a):
+    return a.__array_interface__["data"][0]
+
+
+def test_a_freed_array_is_reused_by_the_next_request():
+    pool = workspace.Pool()
+    a = pool.empty(2 * MB, np.uint8)
+    where = _address(a)
+    del a
+    gc.collect()
+    assert pool.idle_bytes() == 2 * MB
+    b = pool.empty((MB // 8, 2), np.float32)  # another shape and dtype, same bytes
+    assert _address(b) == where and pool.idle_bytes() == 0
+    assert b.shape == (MB // 8, 2) and b.dtype == np.float32 and b.flags.c_contiguous
+
+
+def test_a_live_view_keeps_its_mapping_lent():
+    pool = workspace.Pool()
+    a = pool.empty(2 * MB, np.uint8)
+    view = a[10:20]
+    view[:] = 7
+    del a
+    gc.collect()
+    assert pool.idle_bytes() == 0
+    b = pool.empty(2 * MB, np.uint8)
+    b[:] = 1
+    assert not np.shares_memory(b, view) and np.all(view == 7)
+    del view
+    gc.collect()
+    assert pool.idle_bytes() == 2 * MB
+
+
+def test_a_request_takes_the_smallest_idle_mapping_that_fits():
+    pool = workspace.Pool()
+    arrays = [pool.empty(size * MB, np.uint8) for size in (2, 4, 8)]
+    where = {a.shape[0]: _address(a) for a in arrays}
+    del arrays
+    gc.collect()
+    c = pool.empty(3 * MB, np.uint8)
+    assert _address(c) == where[4 * MB] and c.shape == (3 * MB,)
+    assert pool.idle_bytes() == 10 * MB
+
+
+def test_a_request_nothing_fits_unmaps_the_smaller_idle_ones():
+    pool = workspace.Pool()
+    a, b = pool.empty(2 * MB, np.uint8), pool.empty(3 * MB, np.uint8)
+    del a, b
+    gc.collect()
+    assert pool.idle_bytes() == 5 * MB
+    c = pool.empty(4 * MB, np.uint8)
+    assert pool.idle_bytes() == 0 and c.shape == (4 * MB,)
+
+
+def test_idle_bytes_past_the_limit_are_unmapped():
+    pool = workspace.Pool(limit=3 * MB)
+    a, b = pool.empty(2 * MB, np.uint8), pool.empty(2 * MB, np.uint8)
+    del a, b
+    gc.collect()
+    assert pool.idle_bytes() == 2 * MB
+
+
+def test_idle_mappings_are_unmapped_after_idle_seconds_and_by_release():
+    pool = workspace.Pool(idle_seconds=0.05)
+    a = pool.empty(2 * MB, np.uint8)
+    del a
+    gc.collect()
+    assert pool.idle_bytes() == 2 * MB
+    deadline = time.monotonic() + 5
+    while pool.idle_bytes() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert pool.idle_bytes() == 0
+    pool = workspace.Pool()
+    a = pool.empty(2 * MB, np.uint8)
+    del a
+    gc.collect()
+    pool.release()
+    assert pool.idle_bytes() == 0
+
+
+def test_small_arrays_come_from_numpy():
+    pool = workspace.Pool()
+    a = pool.empty((10, 3), np.int64)
+    assert a.flags.owndata and a.shape == (10, 3)
+    del a
+    gc.collect()
+    assert pool.idle_bytes() == 0
+
+
+def test_a_forked_child_still_expires_its_idle_mappings():
+    code = ("import gc, os, time, numpy as np\n"
+            "from lfqt import workspace\n"
+            "workspace.POOL.idle_seconds = 0.05\n"
+            "a = workspace.empty(2 << 20, np.uint8); del a; gc.collect()\n"
+            "pid = os.fork()\n"
+            "if pid == 0:\n"
+            "    workspace.POOL.idle_seconds = 0.05\n"
+            "    b = workspace.empty(4 << 20, np.uint8); del b; gc.collect()\n"
+            "    t = time.monotonic()\n"
+            "    while workspace.POOL.idle_bytes() and time.monotonic() - t < 5: time.sleep(0.02)\n"
+            "    os._exit(0 if workspace.POOL.idle_bytes() == 0 else 3)\n"
+            "_, status = os.waitpid(pid, 0)\n"
+            "raise SystemExit(os.waitstatus_to_exitcode(status))\n")
+    assert subprocess.run([sys.executable, "-c", code], timeout=120).returncode == 0
+
+
+def test_views_are_consecutive_aligned_and_bounded():
+    buf = np.zeros(workspace.view_bytes((3, np.float64), (5, np.int32), (2, np.uint8)),
+                   dtype=np.uint8)
+    assert len(buf) == 64 + 64 + 64
+    x, y, z = workspace.views(buf, (3, np.float64), (5, np.int32), (2, np.uint8))
+    assert (x.shape, y.shape, z.shape) == ((3,), (5,), (2,))
+    assert [_address(v) - _address(buf) for v in (x, y, z)] == [0, 64, 128]
+    x[:], y[:], z[:] = 1.5, -2, 9
+    assert np.all(x == 1.5) and np.all(y == -2) and np.all(z == 9)
+    with pytest.raises(ValueError, match="bytes hold no"):
+        workspace.views(buf, (3, np.float64), (40, np.int32))
+
+
+def test_a_kept_result_is_never_lent_to_the_next_call():
+    """Results of calls back to back share no memory, and the first stays as
+    it was while later calls reuse the pool."""
+    rng = np.random.default_rng(5)
+    pts = rng.random((300_000, 2))
+    first = lfqt.triangulate(pts)
+    copies = [a.copy() for a in (first.simplices, first.neighbors, first.duplicate_of)]
+    for _ in range(2):
+        other = lfqt.triangulate(rng.random((300_000, 2)))
+        for a in (first.simplices, first.neighbors, first.duplicate_of):
+            for b in (other.simplices, other.neighbors, other.duplicate_of):
+                assert not np.shares_memory(a, b)
+        del other
+        gc.collect()
+    for a, b in zip((first.simplices, first.neighbors, first.duplicate_of), copies):
+        assert np.array_equal(a, b)
+    lfqt.verify(pts, first).raise_if_invalid()
+
+
+def test_a_freed_result_gives_its_memory_to_the_next_call():
+    pts = np.random.default_rng(6).random((300_000, 2))
+    workspace.release()  # no idle mapping of an earlier call of the same size
+    tri = lfqt.triangulate(pts)
+    where = _address(tri.simplices)
+    assert pages.SMALLEST <= tri.simplices.nbytes
+    del tri
+    gc.collect()
+    again = lfqt.triangulate(pts)
+    assert _address(again.simplices) == where
+    lfqt.verify(pts, again).raise_if_invalid()
