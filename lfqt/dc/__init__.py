@@ -95,29 +95,36 @@ def _memory(n, idx):
     the same pages one after the other instead of a fresh set each (and
     its peak memory is no higher)::
 
-        slots   [ khi | klo_in | key_buf | perm_buf | slo ]  phase 1: the sort's scratch
-                [ T: 6 entries a triangle slot ......... ]  phases 2-3, the keys dropped
-                [ neighbors (m, 3) ]                         the output, in T's memory
-        points  [ P: (n, 2) float64 | ops: 2n ]              phases 1-3
-                [ simplices (m, 3) ]                         the output (m < 2n)
+        slots   [ khi | klo_in | key_buf | slo ]      phase 1: the sort's keys
+                [ T: 6 entries a triangle slot .... ]  phases 2-3, the keys dropped
+                [ neighbors (m, 3) ]                    the output, in T's memory
+        points  [ perm_buf ]                            phase 1: the sort's scratch
+                [ P: (n, 2) float64 | ops: 2n ]         phases 1-3
+                [ simplices (m, 3) ]                    the output (m < 2n)
 
-    The sort's scratch is sized for 128-bit keys, the larger.  Returns
-    (slots, points), uint8 arrays."""
+    The keys are sized for 128-bit keys, the larger.  A result keeps
+    neighbors' pages, T's first half, and simplices', all of ``points``:
+    what the sort writes in parallel lies there (slo, past T's first half,
+    is written in runs of equal high words only), for the pages of T's second
+    half fault in again in the next call that reuses the mapping, and at
+    two threads faults in parallel cost (1M, after a call whose result was
+    freed: the radix sort on two threads took 15 ms with perm_buf in T's
+    second half, 9.9 ms here).  Returns (slots, points), uint8 arrays."""
     t_type = np.dtype(t_dtype(n))
     t_bytes = 6 * max(2 * (n - 1), 0) * t_type.itemsize
-    slots = workspace.empty(max(t_bytes, workspace.view_bytes(*_sort_specs(n, idx, True))),
-                            np.uint8)
+    slots = workspace.empty(max(t_bytes, workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
     points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
                                  3 * 2 * n * np.dtype(idx).itemsize), np.uint8)
     return slots, points
 
 
-def _sort_specs(n, idx, wide):
-    """The sort's scratch (workspace.views): the keys' (khi and klo_in for
-    128-bit keys, else one array), radix.sort_keys' two and the sorted low
+def _sort_specs(n, wide):
+    """The sort's keys (workspace.views): khi and klo_in for 128-bit keys,
+    else one array, radix.sort_keys' scratch for them and the sorted low
     words."""
-    keys = [(n, np.uint64), (n, np.uint64)] if wide else [(n, np.uint64)]
-    return keys + [(n, np.uint64), (n, idx)] + ([(n, np.uint64)] if wide else [])
+    if wide:
+        return [(n, np.uint64)] * 4
+    return [(n, np.uint64)] * 2
 
 
 def _point_specs(n, idx):
@@ -126,12 +133,12 @@ def _point_specs(n, idx):
 
 def _sorted_points(pts, scale_exp, workers, idx_dtype, slots, points):
     """Phase 1: Morton keys of the C-contiguous (n, 2) points ``pts``, radix
-    sort in the scratch ``slots``, the gaps between adjacent keys, and the
-    points gathered in Morton order as float64 scaled by 2**scale_exp
-    (exact), in ``points`` (_memory).  Returns (khi, klo, gaps, perm, P);
+    sort, the gaps between adjacent keys, and the points gathered in Morton
+    order as float64 scaled by 2**scale_exp (exact), in the mappings
+    ``slots`` and ``points`` (_memory).  Returns (khi, klo, gaps, perm, P);
     khi is empty for 64-bit keys."""
     n = pts.shape[0]
-    khi, klo, perm = sorted_keys(pts, workers, idx_dtype, slots)
+    khi, klo, perm = sorted_keys(pts, workers, idx_dtype, (slots, points))
     gaps = key_gaps(khi, klo, pts.dtype == np.float64, workers)
     P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
     workers.map(workers.chunks(n),
@@ -151,22 +158,23 @@ def key_gaps(khi, klo, wide, workers):
 def sorted_keys(pts, workers, idx_dtype, scratch=None):
     """Morton keys of the C-contiguous (n, 2) float32 or float64 points and
     their radix sort: (khi, klo, perm), khi empty for 64-bit keys (float32
-    input).  The keys live in ``scratch`` (uint8, at least
-    workspace.view_bytes(*_sort_specs) bytes; default: a new array)."""
+    input).  ``scratch``: the mappings of _memory, the keys in the first
+    (default: new arrays)."""
     n = pts.shape[0]
     wide = pts.dtype == np.float64
-    specs = _sort_specs(n, idx_dtype, wide)
-    if scratch is None:
-        scratch = workspace.empty(workspace.view_bytes(*specs), np.uint8)
+    specs = _sort_specs(n, wide)
+    slots, points = scratch or (workspace.empty(workspace.view_bytes(*specs), np.uint8),
+                                workspace.empty(n * np.dtype(idx_dtype).itemsize, np.uint8))
+    perm_buf = workspace.views(points, (n, idx_dtype))[0]
     chunks = workers.chunks(n)
     perm = workspace.empty(n, idx_dtype)
     workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
     if wide:
-        khi, klo_in, key_buf, perm_buf, slo = workspace.views(scratch, *specs)
+        khi, klo_in, key_buf, slo = workspace.views(slots, *specs)
         bits = pts.view(np.uint64)
         workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(bits, khi, klo_in, lo, hi))
         return radix.sort_keys128(khi, klo_in, perm, workers, (key_buf, perm_buf), slo)
-    keys, key_buf, perm_buf = workspace.views(scratch, *specs)
+    keys, key_buf = workspace.views(slots, *specs)
     bits = pts.view(np.uint32)
     workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
     klo, perm = radix.sort_keys(keys, perm, workers, scratch=(key_buf, perm_buf))
