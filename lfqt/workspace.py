@@ -48,11 +48,11 @@ class Pool:
         self._lock = threading.RLock()
         self._timer = None
 
-    def empty(self, shape, dtype):
+    def empty(self, shape, dtype, huge=None):
         """An uninitialized C-contiguous array, on an idle mapping of the
-        pool or a fresh one (lfqt.pages), on huge pages where they pay
-        (pages.huge_pays; the merges run 7% faster on them); arrays under
-        pages.SMALLEST bytes come from numpy."""
+        pool or a fresh one (lfqt.pages), on huge pages if ``huge``, by
+        default where they pay (pages.huge_pays; the merges run 7% faster on
+        them); arrays under pages.SMALLEST bytes come from numpy."""
         dtype = np.dtype(dtype)
         count = int(np.prod(shape))
         nbytes = count * dtype.itemsize
@@ -60,7 +60,7 @@ class Pool:
             return np.empty(shape, dtype=dtype)
         buf = self._take(nbytes)
         if buf is None:
-            buf = pages.mapping(nbytes, pages.huge_pays(nbytes))
+            buf = pages.mapping(nbytes, pages.huge_pays(nbytes) if huge is None else huge)
         base = np.frombuffer(buf, dtype=dtype, count=count)
         # when base dies, every view of it has died: the mapping is free
         weakref.finalize(base, self._give, buf).atexit = False
@@ -145,9 +145,9 @@ if hasattr(os, "register_at_fork"):
     os.register_at_fork(after_in_child=POOL._after_fork)
 
 
-def empty(shape, dtype):
-    """POOL.empty: scratch for one call's temporaries."""
-    return POOL.empty(shape, dtype)
+def empty(shape, dtype, huge=None):
+    """POOL.empty: memory for a call's large arrays."""
+    return POOL.empty(shape, dtype, huge)
 
 
 def release():

@@ -23,7 +23,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .. import pages
+from .. import pages, workspace
 from ..clock import cycle_counter
 from ..indexing import bit, popcount, prefetch, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
@@ -680,17 +680,18 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     (counts' LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter
     per point, 34 ns in all on a VM whose counter costs 11 ns).
 
-    The arrays of a size in points or cells come from lfqt.pages, here, not
-    from the kernel, on transparent huge pages where they pay (huge_pages),
-    where numba's allocations would fault in 4 KB at a time (14k faults,
-    35 ms, for the cells of 1M points in 2D, on every call)."""
+    The arrays of a size in points or cells come from lfqt.workspace, here,
+    not from the kernel, on transparent huge pages where they pay
+    (huge_pages), where numba's allocations would fault in 4 KB at a time
+    (14k faults, 35 ms, for the cells of 1M points in 2D, on every call),
+    and on the mappings of earlier calls' freed results where there are."""
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     huge = huge_pages(d)
-    vcell = pages.empty(n, np.int32, huge)
+    vcell = workspace.empty(n, np.int32, huge)
     vcell.fill(-1)
-    records = pages.empty(_record_shape(cap, d + 1), np.int32, huge)
-    cells = Cells(*_records(records, d + 1), vcell, pages.empty(cap, np.int32, huge))
+    records = workspace.empty(_record_shape(cap, d + 1), np.int32, huge)
+    cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32, huge))
     C, *rest = _insert_all(P, d, perm, hint, span, cells, np.arange(n), max_cells, timing)
     grown = C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
     return Insertion(C, *rest, None if grown else records)
@@ -757,10 +758,10 @@ def finite_cells(C, N, mark, ids, records=None):
     bits, first, finite, live = _finite_bitmap(C, mark)
     width = C.shape[1]
     huge = huge_pages(width - 1)
-    neighbors = pages.empty((finite, width), np.int32, huge)
+    neighbors = workspace.empty((finite, width), np.int32, huge)
     facets = np.empty((live - finite, width - 1), dtype=np.int64)
     if records is None:
-        simplices = pages.empty((finite, width), np.int32, huge)
+        simplices = workspace.empty((finite, width), np.int32, huge)
     else:
         flat = records.reshape(-1)
         simplices = flat[:finite * width].reshape(finite, width)
