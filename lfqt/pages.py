@@ -1,6 +1,6 @@
-"""Fresh memory for the kernels' large arrays: anonymous private mappings,
-with or without transparent huge pages, and the pages past a prefix given
-back.
+"""Fresh memory for the kernels' large arrays (lent out by lfqt.workspace):
+anonymous private mappings, with or without transparent huge pages, and the
+pages past a prefix given back.
 
 A huge page (2 MiB) costs one fault where small pages (4 KiB) cost 512, and
 fewer TLB misses afterwards: the divide and conquer runs 7% faster on them
@@ -33,7 +33,6 @@ import os
 
 import numpy as np
 
-SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
 SOON_REUSED = 128 << 20  # bytes: a larger array's call outlasts the host's ~2 s
 VIRTIO_DEVICES = "/sys/bus/virtio/devices"
 _BALLOON = 0x0005  # virtio device id of the memory balloon
@@ -41,23 +40,12 @@ _REPORTING = 5  # its feature bit VIRTIO_BALLOON_F_REPORTING
 _reporting = None
 
 
-def empty(shape, dtype, huge=True):
-    """An unwritten array in an anonymous mapping of its own, advised to
-    use transparent huge pages or not to (``huge``), so that ``keep_prefix``
-    can give back the pages past what a result keeps.  The mapping is
-    private: a shared one (mmap's default) is shmem, which gets no
-    transparent huge pages.  Arrays under SMALLEST bytes come from numpy."""
-    dtype = np.dtype(dtype)
-    count = int(np.prod(shape))
-    nbytes = count * dtype.itemsize
-    if nbytes < SMALLEST:
-        return np.empty(shape, dtype=dtype)
-    return np.frombuffer(mapping(nbytes, huge), dtype=dtype, count=count).reshape(shape)
-
-
 def mapping(nbytes, huge=True):
-    """A fresh private anonymous mapping of ``nbytes`` (an mmap object),
-    advised to use transparent huge pages or not to."""
+    """A fresh anonymous mapping of ``nbytes`` (an mmap object), advised to
+    use transparent huge pages or not to (``huge``), for lfqt.workspace to
+    lend out as arrays, so that ``keep_prefix`` can give back the pages
+    past what a result keeps.  The mapping is private: a shared one (mmap's
+    default) is shmem, which gets no transparent huge pages."""
     buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
     advice = getattr(mmap, "MADV_HUGEPAGE" if huge else "MADV_NOHUGEPAGE", None)
     if advice is not None:
@@ -79,7 +67,7 @@ def keep_prefix(a, count):
     cost no memory again until written).  Elsewhere the memory is simply
     kept."""
     buf = a.base
-    while isinstance(buf, np.ndarray):  # empty's reshape of frombuffer's array
+    while isinstance(buf, np.ndarray):  # a view of lfqt.workspace's frombuffer array
         buf = buf.base
     buf = buf.obj if isinstance(buf, memoryview) else buf
     if isinstance(buf, mmap.mmap) and hasattr(mmap, "MADV_DONTNEED"):

@@ -32,6 +32,7 @@ import numpy as np
 
 from . import pages
 
+SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
 IDLE_SECONDS = 2.0  # an idle mapping is unmapped this long after its last use
 LIMIT = 2 << 30  # idle bytes the pool keeps at most
 
@@ -52,11 +53,12 @@ class Pool:
         """An uninitialized C-contiguous array, on an idle mapping of the
         pool or a fresh one (lfqt.pages), on huge pages if ``huge``, by
         default where they pay (pages.huge_pays; the merges run 7% faster on
-        them); arrays under pages.SMALLEST bytes come from numpy."""
+        them): the advice of a fresh mapping, for an idle one keeps its own.
+        Arrays under SMALLEST bytes come from numpy."""
         dtype = np.dtype(dtype)
         count = int(np.prod(shape))
         nbytes = count * dtype.itemsize
-        if nbytes < pages.SMALLEST:
+        if nbytes < SMALLEST:
             return np.empty(shape, dtype=dtype)
         buf = self._take(nbytes)
         if buf is None:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import lfqt
-from lfqt import pages, workspace
+from lfqt import workspace
 
 MB = 1 << 20
 
@@ -96,6 +96,7 @@ def test_small_arrays_come_from_numpy():
     pool = workspace.Pool()
     a = pool.empty((10, 3), np.int64)
     assert a.flags.owndata and a.shape == (10, 3)
+    assert pool.empty(0, np.int32).shape == (0,)
     del a
     gc.collect()
     assert pool.idle_bytes() == 0
@@ -156,7 +157,7 @@ def test_a_freed_result_gives_its_memory_to_the_next_call():
     workspace.release()
     tri = lfqt.triangulate(pts)
     where = _address(tri.simplices)
-    assert pages.SMALLEST <= tri.simplices.nbytes
+    assert workspace.SMALLEST <= tri.simplices.nbytes
     del tri
     gc.collect()
     again = lfqt.triangulate(pts)
