@@ -163,3 +163,43 @@ def test_a_freed_result_gives_its_memory_to_the_next_call():
     again = lfqt.triangulate(pts)
     assert _address(again.simplices) == where
     lfqt.verify(pts, again).raise_if_invalid()
+
+
+def _parallel_calls():
+    """Python threads triangulating at once (the kernels release the GIL)
+    draw on one pool: every result is exact and shares no memory with any
+    other still alive."""
+    import threading
+    sets = [np.random.default_rng(s).random((150_000, 2)) for s in range(4)]
+    results, errors = {}, []
+
+    def work(k):
+        try:
+            for r in range(3):
+                results[(k, r)] = lfqt.triangulate(sets[k])
+        except BaseException as e:  # noqa: BLE001 - reported by the test
+            errors.append(e)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    arrays = [(key, a) for key, tri in results.items()
+              for a in (tri.simplices, tri.neighbors, tri.duplicate_of)]
+    for i, (key_a, a) in enumerate(arrays):
+        for key_b, b in arrays[i + 1:]:
+            assert key_a == key_b or not np.shares_memory(a, b)
+    for (k, r), tri in results.items():
+        lfqt.verify(sets[k], tri).raise_if_invalid()
+        assert np.array_equal(tri.simplices, results[(k, 0)].simplices)
+
+
+def test_calls_in_parallel_threads_each_get_their_own_memory():
+    """_parallel_calls in a child process: a pool that lent one mapping twice
+    would crash the kernels."""
+    code = f"import runpy; runpy.run_path({__file__!r}, run_name='child')['_parallel_calls']()"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
