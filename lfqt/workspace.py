@@ -1,8 +1,9 @@
-"""Scratch memory reused from call to call: the large temporaries of a
-triangulation (keys, permutations, the points in Morton order, the op list)
-come from a process-wide pool of anonymous mappings, and each goes back to
-the pool when the last array on it dies, for the next request to write
-pages that are already there instead of faulting in fresh ones.
+"""Memory reused from call to call: the large arrays of a triangulation
+(keys, permutations, the points in Morton order, the op list, and the
+result's arrays) come from a process-wide pool of anonymous mappings, and
+each goes back to the pool when the last array on it dies, for the next
+request to write pages that are already there instead of faulting in fresh
+ones.
 
 Without the pool, glibc hands a freed large block back to the system, and
 the next call pays a page fault per 4 KiB it writes (on a virtual machine,
@@ -108,7 +109,6 @@ class Pool:
             self._timer = None
             if self._idle:
                 self._arm(max(0.0, min(e[1] for e in self._idle) + self.idle_seconds - now))
-
 
     def _after_fork(self):
         """In a forked child: the parent's timer thread is gone."""

@@ -224,9 +224,9 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     pts, scale_exp = coordinates2d(points, workers)
     n = pts.shape[0]
     t_validate = time.perf_counter()
-    slots, points_mem = _memory(n, index_dtype(n))
-    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, index_dtype(n), slots,
-                                             points_mem)
+    idx = index_dtype(n)
+    slots, points_mem = _memory(n, idx)
+    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, idx, slots, points_mem)
     dtype = pts.dtype
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
