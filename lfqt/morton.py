@@ -92,6 +92,29 @@ def morton_keys64_into(bits, khi, klo, lo, hi):
         klo[u(i)] = interleave(ox & _LOW32, oy & _LOW32)
 
 
+@njit(cache=True, nogil=True)
+def morton_high64_into(bits, khi, lo, hi):
+    """The high 64 bits alone of the keys of float64 points [lo, hi): the
+    low ones tell apart only keys whose high bits are equal, rare on
+    float64 input, and ``low_word`` gives them on demand (1M points, cold
+    input: 5.6 -> 3.0 ms without writing 8 MB of low words)."""
+    flat = bits.reshape(-1)
+    for i in range(lo, hi):
+        khi[u(i)] = interleave(ordered_bits64(flat[u(2 * i)]) >> _S32,
+                               ordered_bits64(flat[u(2 * i + 1)]) >> _S32)
+
+
+@njit(cache=True)
+def low_word(src, i):
+    """The low 64 bits of key i: src[i] where ``src`` holds them (1D), else
+    computed from the (n, 2) uint64 bits of float64 points.  Not inlined in
+    numba's IR, where the branch on ``src.ndim`` would not be pruned before
+    typing (LLVM inlines it)."""
+    if src.ndim == 1:
+        return src[u(i)]
+    return interleave(ordered_bits64(src[u(i), 0]) & _LOW32, ordered_bits64(src[u(i), 1]) & _LOW32)
+
+
 def point_bits(x, y, dtype):
     """The (n, 2) unsigned bit view of the points (x, y) as ``dtype``."""
     pts = np.column_stack((x, y)).astype(dtype, copy=False)

@@ -22,6 +22,7 @@ from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
 from .indexing import u
+from .morton import low_word
 
 _FF = np.uint64(0xFF)
 _INSERTION_RUN = 24
@@ -298,8 +299,9 @@ def _sort_run(slo, perm, a, b):
 def order_runs(shi, src, perm, slo, lo, hi):
     """Each run of equal high words ``shi`` that starts in [lo, hi) (it may
     end past hi; one that starts before lo is its chunk's): gather its low
-    words, slo[i] = src[perm[i]], and sort them stably, carrying perm.  The
-    positions outside runs are not written."""
+    words, slo[i] = low word perm[i] of ``src`` (the low words, or the
+    points' bits: lfqt.morton.low_word), and sort them stably, carrying
+    perm.  The positions outside runs are not written."""
     n = shi.shape[0]
     i = lo
     while 0 < i < hi and shi[u(i)] == shi[u(i - 1)]:
@@ -311,7 +313,7 @@ def order_runs(shi, src, perm, slo, lo, hi):
             end += 1
         if end - i > 1:
             for j in range(i, end):
-                slo[u(j)] = src[u(perm[u(j)])]
+                slo[u(j)] = low_word(src, perm[u(j)])
             _sort_run(slo, perm, i, end)
         i = end
 
@@ -320,8 +322,10 @@ def sort_keys128(hi, lo, perm, workers, scratch=None, slo=None):
     """Stable sort of 128-bit keys given as (hi, lo) uint64 arrays carrying
     ``perm``: radix on ``hi`` over ``workers`` (through ``scratch``, as
     sort_keys), then each run of equal ``hi`` ordered by ``lo`` into ``slo``
-    (default: a new array).  Returns (sorted_hi, sorted_lo, perm); ``hi``
-    and ``perm`` are sorted in place.
+    (default: a new array).  ``lo`` may instead be the (n, 2) uint64 bits
+    of the float64 points whose Morton keys these are, for the low words
+    to be computed where they are needed (order_runs).  Returns (sorted_hi,
+    sorted_lo, perm); ``hi`` and ``perm`` are sorted in place.
 
     A low word only ever tells apart keys whose high words are equal, so
     sorted_lo is written inside runs of equal high words alone (elsewhere it

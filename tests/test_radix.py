@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from lfqt import radix
+from lfqt import morton, radix
 from lfqt.workers import Workers
 
 WORKERS = [Workers(1), Workers(3)]
@@ -67,6 +67,28 @@ def test_sort128_orders_lexicographically_and_stably(pairs, workers):
         run[1:] |= same
         run[:-1] |= same
     assert np.array_equal(slo[run], lo[perm][run])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_low_words_from_the_points_bits_sort_like_the_low_words(rng, threads):
+    """sort_keys128 with the float64 points' bits in place of the low words
+    (lfqt.morton.low_word) orders like the full 128-bit Morton keys: points
+    that share the upper 32 bits of both coordinates form long runs of
+    equal high words, told apart by the low words alone."""
+    n = 200_000
+    base = rng.random((50, 2)) + 1.0
+    pts = base[rng.integers(0, 50, n)] + rng.integers(0, 1 << 20, (n, 2)) * 2.0 ** -52
+    pts[::7] = pts[3]  # equal keys: stability decides
+    x, y = pts[:, 0].copy(), pts[:, 1].copy()
+    hi, lo = morton.morton_keys64(x, y)
+    with Workers(threads) as w:
+        shi, slo, perm = radix.sort_keys128(hi.copy(), pts.view(np.uint64), perm32(n), w)
+    expect = np.lexsort((np.arange(n), lo, hi))
+    assert np.array_equal(perm, expect)
+    run = np.zeros(n, dtype=bool)
+    run[1:] |= shi[1:] == shi[:-1]
+    run[:-1] |= shi[1:] == shi[:-1]
+    assert run.mean() > 0.9 and np.array_equal(slo[run], lo[expect][run])
 
 
 def test_long_runs_of_equal_high_words_use_radix_and_stay_stable(rng):

@@ -95,7 +95,7 @@ def _memory(n, idx):
     the same pages one after the other instead of a fresh set each (and
     its peak memory is no higher)::
 
-        slots   [ khi | klo_in | key_buf | slo ]      phase 1: the sort's keys
+        slots   [ khi | key_buf | slo ]               phase 1: the sort's keys
                 [ T: 6 entries a triangle slot .... ]  phases 2-3, the keys dropped
                 [ neighbors (m, 3) ]                    the output, in T's memory
         points  [ perm_buf ]                            phase 1: the sort's scratch
@@ -104,12 +104,12 @@ def _memory(n, idx):
 
     The keys are sized for 128-bit keys, the larger.  A result keeps
     neighbors' pages, T's first half, and simplices', all of ``points``:
-    what the sort writes in parallel lies there (slo, past T's first half,
-    is written in runs of equal high words only), for the pages of T's second
-    half fault in again in the next call that reuses the mapping, and at
-    two threads faults in parallel cost (1M, after a call whose result was
-    freed: the radix sort on two threads took 15 ms with perm_buf in T's
-    second half, 9.9 ms here).  Returns (slots, points), uint8 arrays."""
+    what the sort writes in parallel lies there (slo is written in runs of
+    equal high words only), for the pages of T's second half fault in again
+    in the next call that reuses the mapping, and at two threads faults in
+    parallel cost (1M, after a call whose result was freed: the radix sort
+    on two threads took 15 ms with perm_buf in T's second half, 9.9 ms
+    here).  Returns (slots, points), uint8 arrays."""
     t_type = np.dtype(t_dtype(n))
     t_bytes = 6 * max(2 * (n - 1), 0) * t_type.itemsize
     slots = workspace.empty(max(t_bytes, workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
@@ -119,12 +119,10 @@ def _memory(n, idx):
 
 
 def _sort_specs(n, wide):
-    """The sort's keys (workspace.views): khi and klo_in for 128-bit keys,
-    else one array, radix.sort_keys' scratch for them and the sorted low
-    words."""
-    if wide:
-        return [(n, np.uint64)] * 4
-    return [(n, np.uint64)] * 2
+    """The sort's keys (workspace.views): the keys (their high words for
+    128-bit keys), radix.sort_keys' scratch for them, and for 128-bit keys
+    the sorted low words."""
+    return [(n, np.uint64)] * (3 if wide else 2)
 
 
 def _point_specs(n, idx):
@@ -169,11 +167,11 @@ def sorted_keys(pts, workers, idx_dtype, scratch=None):
     chunks = workers.chunks(n)
     perm = workspace.empty(n, idx_dtype)
     workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
-    if wide:
-        khi, klo_in, key_buf, slo = workspace.views(slots, *specs)
+    if wide:  # the low words from the points' bits, in runs of equal high words only
+        khi, key_buf, slo = workspace.views(slots, *specs)
         bits = pts.view(np.uint64)
-        workers.map(chunks, lambda c, lo, hi: morton.morton_keys64_into(bits, khi, klo_in, lo, hi))
-        return radix.sort_keys128(khi, klo_in, perm, workers, (key_buf, perm_buf), slo)
+        workers.map(chunks, lambda c, lo, hi: morton.morton_high64_into(bits, khi, lo, hi))
+        return radix.sort_keys128(khi, bits, perm, workers, (key_buf, perm_buf), slo)
     keys, key_buf = workspace.views(slots, *specs)
     bits = pts.view(np.uint32)
     workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
