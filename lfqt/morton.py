@@ -109,7 +109,7 @@ def low_word(src, i):
     """The low 64 bits of key i: src[i] where ``src`` holds them (1D), else
     computed from the (n, 2) uint64 bits of float64 points.  Not inlined in
     numba's IR, where the branch on ``src.ndim`` would not be pruned before
-    typing (LLVM inlines it)."""
+    typing (LLVM may inline it)."""
     if src.ndim == 1:
         return src[u(i)]
     return interleave(ordered_bits64(src[u(i), 0]) & _LOW32, ordered_bits64(src[u(i), 1]) & _LOW32)
