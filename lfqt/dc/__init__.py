@@ -110,9 +110,8 @@ def _memory(n, idx):
     parallel cost (1M, after a call whose result was freed: the radix sort
     on two threads took 15 ms with perm_buf in T's second half, 9.9 ms
     here).  Returns (slots, points), uint8 arrays."""
-    t_type = np.dtype(t_dtype(n))
-    t_bytes = 6 * max(2 * (n - 1), 0) * t_type.itemsize
-    slots = workspace.empty(max(t_bytes, workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
+    slots = workspace.empty(max(workspace.view_bytes(_t_spec(n)),
+                                workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
     points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
                                  3 * 2 * n * np.dtype(idx).itemsize), np.uint8)
     return slots, points
@@ -123,6 +122,11 @@ def _sort_specs(n, wide):
     128-bit keys), radix.sort_keys' scratch for them, and for 128-bit keys
     the sorted low words."""
     return [(n, np.uint64)] * (3 if wide else 2)
+
+
+def _t_spec(n):
+    """T's entries (6 per triangle slot, 2 slots per merge) and dtype."""
+    return 6 * max(2 * (n - 1), 0), t_dtype(n)
 
 
 def _point_specs(n, idx):
@@ -188,7 +192,7 @@ def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, point
     (State.drop_keys)."""
     n = P.shape[0]
     idx = perm.dtype
-    T = workspace.views(slots, (6 * max(2 * (n - 1), 0), t_dtype(n)))[0]
+    T = workspace.views(slots, _t_spec(n))[0]
     ops = workspace.views(points, *_point_specs(n, idx))[1]
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)

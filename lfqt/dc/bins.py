@@ -165,7 +165,7 @@ def _run_levels(tree, workers, run_bin, run_merge):
     """Barrier per level: all bins, then the merges of height 1, 2, ...  On
     threads the bins go largest first, so that no large bin is left to run
     alone at the end (1M uniform points on 2 threads, merge 0.097-0.102 ->
-    0.090-0.092 s); on one thread (pool None) in address order.  A level of
+    0.090-0.092 s); on one thread (no pool) in address order.  A level of
     one merge runs in the calling thread (Workers.each): a round trip
     through the pool cost 0.05-0.2 ms, as much as the merge, on each of the
     5-8 such levels of 1M uniform points in 16 bins."""
