@@ -124,6 +124,53 @@ def test_runs_of_equal_high_words_across_chunks_are_ordered_once(rng, threads):
     assert np.array_equal(slo[run], lo[expect][run])
 
 
+
+def _leaf_sorted(keys):
+    """leaf_passes on all 8 digits of keys: (sorted keys, perm, scatters)."""
+    n = len(keys)
+    k, p = keys.copy(), perm32(n)
+    kb, pb = np.empty_like(k), np.empty_like(p)
+    passes = radix.leaf_passes(k, p, 0, n, kb, pb, 8)
+    return (kb, pb, passes) if passes % 2 else (k, p, passes)
+
+
+def test_leaf_sorts_by_its_top_digits_then_by_insertion(rng):
+    # Random keys: two top digits (65536 prefixes for 4000 keys) leave a
+    # few ties, which the insertion sort orders; copies test stability.
+    keys = rng.integers(0, 2 ** 64, 4000, dtype=np.uint64)
+    keys[::9] = keys[5]
+    sk, perm, passes = _leaf_sorted(keys)
+    assert passes == 2
+    assert np.array_equal(perm, np.argsort(keys, kind="stable"))
+    assert np.array_equal(sk, keys[perm])
+
+
+def test_leaf_falls_back_to_every_digit_when_its_top_digits_correlate(rng):
+    # The two top digits are equal: 256 values each, 256 prefixes in all,
+    # about 16 keys a prefix, too many ties for the insertion sort's budget.
+    n = 4000
+    top = rng.integers(0, 256, n, dtype=np.uint64)
+    keys = (top << np.uint64(56)) | (top << np.uint64(48)) | rng.integers(
+        0, 2 ** 48, n, dtype=np.uint64)
+    keys[::7] = keys[2]
+    sk, perm, passes = _leaf_sorted(keys)
+    assert passes > 2 + 6  # the two top digits, then all eight again
+    assert np.array_equal(perm, np.argsort(keys, kind="stable"))
+    assert np.array_equal(sk, keys[perm])
+
+
+@given(st.lists(st.integers(0, 2 ** 64 - 1), max_size=60), st.integers(-1, 200))
+def test_insertion_sort_keeps_its_keys_and_their_order_when_it_gives_up(values, budget):
+    keys = np.array(values, dtype=np.uint64)
+    k, p = keys.copy(), perm32(len(keys))
+    done = radix.insertion_sort(k, p, 0, len(keys), budget)
+    assert np.array_equal(k, keys[p])  # every key with its id
+    if done:
+        assert np.array_equal(p, np.argsort(keys, kind="stable"))
+    for v in np.unique(keys):  # equal keys in their input order
+        ids = p[k == v]
+        assert np.all(np.diff(ids) > 0)
+
 def test_constant_digits_are_skipped():
     keys = (np.arange(1000, dtype=np.uint64) << np.uint64(8)) | np.uint64(0xAB)
     keys = keys[::-1].copy()
