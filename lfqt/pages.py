@@ -1,6 +1,6 @@
 """Fresh memory for the kernels' large arrays (lent out by lfqt.workspace):
-anonymous private mappings, with or without transparent huge pages, and the
-pages past a prefix given back.
+anonymous private mappings, with or without transparent huge pages, and
+their pages past a prefix given back.
 
 A huge page (2 MiB) costs one fault where small pages (4 KiB) cost 512, and
 fewer TLB misses afterwards: the divide and conquer runs 7% faster on them
@@ -43,8 +43,8 @@ _reporting = None
 def mapping(nbytes, huge=True):
     """A fresh anonymous mapping of ``nbytes`` (an mmap object), advised to
     use transparent huge pages or not to (``huge``), for lfqt.workspace to
-    lend out as arrays, so that ``keep_prefix`` can give back the pages
-    past what a result keeps.  The mapping is private: a shared one (mmap's
+    lend out as arrays, so that the pages past what a result keeps can be
+    given back (``give_back``).  The mapping is private: a shared one (mmap's
     default) is shmem, which gets no transparent huge pages."""
     buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
     advice = getattr(mmap, "MADV_HUGEPAGE" if huge else "MADV_NOHUGEPAGE", None)
@@ -61,20 +61,23 @@ def huge_pays(nbytes):
     return nbytes <= SOON_REUSED or not host_takes_free_pages()
 
 
-def keep_prefix(a, count):
-    """a[:count] (a 1D array), with the whole pages past it handed back to
-    the system where ``a`` was mapped by ``empty`` (MADV_DONTNEED: they
-    cost no memory again until written).  Elsewhere the memory is simply
-    kept."""
+def mapping_of(a):
+    """The mmap that array ``a`` (a view of lfqt.workspace's frombuffer
+    array) lies on, or None for memory from elsewhere."""
     buf = a.base
-    while isinstance(buf, np.ndarray):  # a view of lfqt.workspace's frombuffer array
+    while isinstance(buf, np.ndarray):
         buf = buf.base
     buf = buf.obj if isinstance(buf, memoryview) else buf
-    if isinstance(buf, mmap.mmap) and hasattr(mmap, "MADV_DONTNEED"):
-        start = -(-count * a.itemsize // mmap.PAGESIZE) * mmap.PAGESIZE
-        if start < len(buf):
-            buf.madvise(mmap.MADV_DONTNEED, start, len(buf) - start)
-    return a[:count]
+    return buf if isinstance(buf, mmap.mmap) else None
+
+
+def give_back(buf, start):
+    """Hand the whole pages of mapping ``buf`` from byte ``start`` on back to
+    the system (MADV_DONTNEED: they cost no memory again until written, and
+    read as zeros)."""
+    start = -(-start // mmap.PAGESIZE) * mmap.PAGESIZE
+    if hasattr(mmap, "MADV_DONTNEED") and start < len(buf):
+        buf.madvise(mmap.MADV_DONTNEED, start, len(buf) - start)
 
 
 def host_takes_free_pages(devices=VIRTIO_DEVICES):

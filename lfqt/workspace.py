@@ -23,6 +23,16 @@ and so is any past ``LIMIT`` idle bytes; ``release()`` unmaps every idle
 mapping now.  A request that finds none large enough unmaps the idle
 mappings smaller than itself first (a call on other sizes), so that the
 pool never holds memory the call could have used beside what it maps.
+
+A result that keeps only a prefix of its mapping (``keep_prefix``: the
+divide and conquer's neighbours in the first half of T) gives the pages
+past it back late: at the pool's next request, if the result is still
+alive then (so a caller that keeps each result while it asks for the next
+holds no more than before), after IDLE_SECONDS, or at ``release()``; and
+never if the result dies first and its mapping comes back to the pool
+whole, for the next call to write pages that are there.  Uniform points, one thread, each result freed
+before the next call: 1M 170.9-171.4 -> 168.2-168.4 ms a call, 100k
+15.3 -> 14.9 ms.
 """
 import os
 import threading
@@ -45,6 +55,7 @@ class Pool:
         self.limit = limit
         self.idle_seconds = idle_seconds
         self._idle = []  # [size in bytes, time given back, mmap]
+        self._trims = {}  # id of a lent mmap: (mmap, byte its pages go from, time asked)
         # reentrant: a finalizer may give a mapping back in the middle of
         # any allocation, this pool's own included (a collection of cycles)
         self._lock = threading.RLock()
@@ -69,6 +80,19 @@ class Pool:
         weakref.finalize(base, self._give, buf).atexit = False
         return base.reshape(shape)
 
+    def keep_prefix(self, a, count):
+        """a[:count] (a 1D array); the whole pages past it go back to the
+        system later (the module's last paragraph), where ``a`` lies on a
+        mapping of the pool."""
+        buf = pages.mapping_of(a)
+        if buf is not None:
+            start = _address(a) + count * a.itemsize - _address(_root(a))
+            with self._lock:
+                self._trims[id(buf)] = (buf, start, time.monotonic())
+                if self._timer is None:
+                    self._arm(self.idle_seconds)
+        return a[:count]
+
     def idle_bytes(self):
         with self._lock:
             return sum(entry[0] for entry in self._idle)
@@ -78,9 +102,11 @@ class Pool:
         them)."""
         with self._lock:
             self._idle.clear()
+            self._trim(0.0)
 
     def _take(self, nbytes):
         with self._lock:
+            self._trim(0.0)  # the results still alive need their spare pages no more
             fits = [e for e in self._idle if e[0] >= nbytes]
             if not fits:  # all smaller: a call on other sizes
                 self._idle = []
@@ -91,6 +117,7 @@ class Pool:
 
     def _give(self, buf):
         with self._lock:
+            self._trims.pop(id(buf), None)  # back whole, for the next call
             if sum(e[0] for e in self._idle) + len(buf) > self.limit:
                 return  # dropped: unmapped when its last reference goes
             self._idle.append([len(buf), time.monotonic(), buf])
@@ -107,14 +134,25 @@ class Pool:
             now = time.monotonic()
             self._idle = [e for e in self._idle if now - e[1] < self.idle_seconds]
             self._timer = None
-            if self._idle:
-                self._arm(max(0.0, min(e[1] for e in self._idle) + self.idle_seconds - now))
+            self._trim(self.idle_seconds)
+            due = [e[1] for e in self._idle] + [t[2] for t in self._trims.values()]
+            if due:
+                self._arm(max(0.0, min(due) + self.idle_seconds - now))
+
+    def _trim(self, age):
+        """Give back the pages asked for by keep_prefix at least ``age``
+        seconds ago (under the lock)."""
+        now = time.monotonic()
+        for key, (buf, start, asked) in list(self._trims.items()):
+            if now - asked >= age:
+                pages.give_back(buf, start)
+                del self._trims[key]
 
     def _after_fork(self):
         """In a forked child: the parent's timer thread is gone."""
         self._lock = threading.RLock()
         self._timer = None
-        if self._idle:
+        if self._idle or self._trims:
             self._arm(self.idle_seconds)
 
 
@@ -150,6 +188,23 @@ if hasattr(os, "register_at_fork"):
 def empty(shape, dtype, huge=None):
     """POOL.empty: memory for a call's large arrays."""
     return POOL.empty(shape, dtype, huge)
+
+
+def keep_prefix(a, count):
+    """POOL.keep_prefix: a result's prefix of a call's array."""
+    return POOL.keep_prefix(a, count)
+
+
+def _root(a):
+    """The array at the bottom of a's chain of views: on a mapping of the
+    pool, the one on its first byte (Pool.empty)."""
+    while isinstance(a.base, np.ndarray):
+        a = a.base
+    return a
+
+
+def _address(a):
+    return a.__array_interface__["data"][0]
 
 
 def release():

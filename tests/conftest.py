@@ -1,4 +1,5 @@
 import os
+import re
 
 import numpy as np
 import pytest
@@ -52,6 +53,22 @@ def triangle_set(simplices):
         out.add(tuple(int(v) for v in rot))
     return out
 
+
+
+def smaps_entry(arr):
+    """(resident kB, VmFlags) of the mapping that holds arr, from Linux's
+    smaps; None where that is not available."""
+    start = arr.__array_interface__["data"][0]
+    try:
+        text = open("/proc/self/smaps").read()
+    except OSError:
+        return None
+    for m in re.finditer(r"^([0-9a-f]+)-([0-9a-f]+) .*?\nRss:\s+(\d+) kB.*?\nVmFlags:([^\n]*)",
+                         text, re.M | re.S):
+        lo, hi = int(m.group(1), 16), int(m.group(2), 16)
+        if lo <= start < hi:
+            return int(m.group(3)), m.group(4).split()
+    return None
 
 @pytest.fixture
 def rng():

@@ -1,36 +1,23 @@
-"""lfqt.pages: mappings advised for or against huge pages, prefixes that give
-back the rest, and the detection of a host that takes free pages back."""
-import re
-
+"""lfqt.pages: mappings advised for or against huge pages, their pages past
+a prefix given back, and the detection of a host that takes free pages
+back."""
 import numpy as np
 import pytest
 
+from conftest import smaps_entry
 from lfqt import pages, workspace
 
 
-def _mapping(arr):
-    """(resident kB, VmFlags) of the mapping that holds arr, from Linux's
-    smaps; None where that is not available."""
-    start = arr.__array_interface__["data"][0]
-    try:
-        text = open("/proc/self/smaps").read()
-    except OSError:
-        return None
-    for m in re.finditer(r"^([0-9a-f]+)-([0-9a-f]+) .*?\nRss:\s+(\d+) kB.*?\nVmFlags:([^\n]*)",
-                         text, re.M | re.S):
-        lo, hi = int(m.group(1), 16), int(m.group(2), 16)
-        if lo <= start < hi:
-            return int(m.group(3)), m.group(4).split()
-    return None
-
-
-def test_keep_prefix_keeps_the_rows_and_gives_back_the_rest():
-    T = workspace.empty(6_000_000, np.int32)
+def test_give_back_keeps_the_pages_before_and_frees_those_after():
+    T = workspace.Pool().empty(6_000_000, np.int32)
     T[:] = np.arange(len(T), dtype=np.int32)
-    before = _mapping(T)
-    kept = pages.keep_prefix(T, 1_000_003)
-    assert np.array_equal(kept, np.arange(1_000_003, dtype=np.int32))
-    after = _mapping(T)
+    before = smaps_entry(T)
+    buf = pages.mapping_of(T[10:])
+    assert buf is not None and pages.mapping_of(np.arange(5)) is None
+    pages.give_back(buf, 4_000_012 + 1)  # rounded up to a page: bytes before it are kept
+    assert np.array_equal(T[:1_000_003], np.arange(1_000_003, dtype=np.int32))
+    assert not T[1_000_000 + 1024:].any()  # read back as zeros
+    after = smaps_entry(T)
     if before is not None and after is not None:
         assert after[0] < before[0] / 2  # 4 MB of 24 MB are still in use
 
@@ -41,7 +28,7 @@ def test_large_arrays_get_a_mapping_advised_as_asked(huge, flag):
     assert a.shape == (1 << 19, 3) and a.dtype == np.int32 and a.flags.c_contiguous
     a[:] = 7  # writable
     assert int(a.sum()) == 7 * a.size
-    found = _mapping(a)
+    found = smaps_entry(a)
     if found is None:
         pytest.skip("no /proc/self/smaps here")
     assert flag in found[1] and ({"hg", "nh"} - {flag}).isdisjoint(found[1])

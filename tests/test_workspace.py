@@ -1,6 +1,7 @@
 """lfqt.workspace: mappings lent as arrays, taken back when the last view
 dies, reused best-fit, unmapped when idle; and the views that share one."""
 import gc
+import os
 import subprocess
 import sys
 import time
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 import lfqt
+from conftest import smaps_entry
 from lfqt import workspace
 
 MB = 1 << 20
@@ -91,6 +93,64 @@ def test_idle_mappings_are_unmapped_after_idle_seconds_and_by_release():
     pool.release()
     assert pool.idle_bytes() == 0
 
+
+
+def _kept(pool, n=6_000_000, keep=1_000_003):
+    """An array of n int32 written whole, and keep_prefix's prefix of it."""
+    T = pool.empty(n, np.int32)
+    T[:] = np.arange(n, dtype=np.int32)
+    return T, pool.keep_prefix(T, keep)
+
+
+def _resident_kb(a):
+    found = smaps_entry(a)
+    if found is None:
+        pytest.skip("no /proc/self/smaps here")
+    return found[0]
+
+
+def test_a_kept_prefix_gives_back_the_rest_at_release_and_at_the_next_request():
+    for give_back in ("release", "fresh mapping", "idle mapping"):
+        pool = workspace.Pool()
+        if give_back == "idle mapping":  # T takes the larger, the request the smaller
+            a, b = pool.empty(2 * MB, np.uint8), pool.empty(30 * MB, np.uint8)
+            del a, b
+            assert pool.idle_bytes() == 32 * MB
+        T, kept = _kept(pool)
+        whole = _resident_kb(kept)
+        assert whole >= 23_000  # nothing given back yet
+        if give_back == "release":
+            pool.release()
+        else:
+            other = pool.empty(2 * MB, np.uint8)
+            assert not np.shares_memory(other, kept)
+            assert pool.idle_bytes() == 0
+        assert _resident_kb(kept) < whole / 2  # 4 MB of 24 MB are still in use
+        assert np.array_equal(kept, np.arange(1_000_003, dtype=np.int32))
+        assert not T[1_001_024:].any()
+
+
+def test_a_kept_prefix_gives_back_the_rest_after_idle_seconds():
+    pool = workspace.Pool(idle_seconds=0.3)
+    T, kept = _kept(pool)
+    whole = _resident_kb(kept)
+    deadline = time.monotonic() + 5
+    while _resident_kb(kept) > whole / 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _resident_kb(kept) < whole / 2
+    assert np.array_equal(kept, np.arange(1_000_003, dtype=np.int32))
+
+
+def test_a_result_freed_before_its_pages_go_back_returns_its_mapping_whole():
+    pool = workspace.Pool()
+    T, kept = _kept(pool)
+    where = _address(T)
+    del T, kept
+    gc.collect()
+    again = pool.empty(6_000_000, np.int32)
+    assert _address(again) == where
+    pool.release()  # nothing to give back any more: the next request's pages stay
+    assert np.array_equal(again, np.arange(6_000_000, dtype=np.int32))
 
 def test_small_arrays_come_from_numpy():
     pool = workspace.Pool()
@@ -199,7 +259,8 @@ def _parallel_calls():
 def test_calls_in_parallel_threads_each_get_their_own_memory():
     """_parallel_calls in a child process: a pool that lent one mapping twice
     would crash the kernels."""
-    code = f"import runpy; runpy.run_path({__file__!r}, run_name='child')['_parallel_calls']()"
+    code = (f"import runpy, sys; sys.path.insert(0, {os.path.dirname(__file__)!r}); "
+            f"runpy.run_path({__file__!r}, run_name='child')['_parallel_calls']()")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from .. import morton, pages, radix, workspace
+from .. import morton, radix, workspace
 from .._input import FORMATS, coordinates2d, index_dtype
 from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
@@ -103,13 +103,15 @@ def _memory(n, idx):
                 [ simplices (m, 3) ]                    the output (m < 2n)
 
     The keys are sized for 128-bit keys, the larger.  A result keeps
-    neighbors' pages, T's first half, and simplices', all of ``points``:
-    what the sort writes in parallel lies there (slo is written in runs of
-    equal high words only), for the pages of T's second half fault in again
-    in the next call that reuses the mapping, and at two threads faults in
-    parallel cost (1M, after a call whose result was freed: the radix sort
-    on two threads took 15 ms with perm_buf in T's second half, 9.9 ms
-    here).  Returns (slots, points), uint8 arrays."""
+    neighbors' pages, T's first half (the second half goes back to the
+    system if the result outlives its call: workspace.keep_prefix), and
+    simplices', all of ``points``: what the sort writes in parallel lies
+    there (slo is written in runs of equal high words only), for pages
+    given back fault in again in the next call that reuses the mapping,
+    and at two threads faults in parallel cost (1M, after a call whose
+    result was freed and its T trimmed at once: the radix sort on two
+    threads took 15 ms with perm_buf in T's second half, 9.9 ms here).
+    Returns (slots, points), uint8 arrays."""
     slots = workspace.empty(max(workspace.view_bytes(_t_spec(n)),
                                 workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
     points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
@@ -346,7 +348,7 @@ def _duplicate_of(gaps, perm, workers, out):
 
 def _rows(T, m, idx):
     """The first 3m entries of T as (m, 3) rows of dtype idx: a view whose
-    memory past it is given back (pages.keep_prefix), or a copy when T's
+    memory past it is given back (workspace.keep_prefix), or a copy when T's
     dtype is wider than idx (more than 2**28 points)."""
-    rows = pages.keep_prefix(T, 3 * m)
+    rows = workspace.keep_prefix(T, 3 * m)
     return (rows if T.dtype == idx else rows.astype(idx)).reshape(m, 3)

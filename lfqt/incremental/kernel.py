@@ -746,7 +746,7 @@ def finite_cells(C, N, mark, ids, records=None):
 
     With ``records``, the array that C and N are rows of (insert_all's),
     the simplices are written over its first bytes, and its pages past them
-    given back (lfqt.pages.keep_prefix).  The pass reads each cell's record
+    given back (lfqt.workspace.keep_prefix).  The pass reads each cell's record
     before any simplex row lands on it: row j of the simplices, j <= c,
     ends at byte 4 * width * (j + 1), at most where record c starts,
     4 * (2 * width + 1) * c, from c = 1 on, and row 0 writes only cell 0's
@@ -767,7 +767,7 @@ def finite_cells(C, N, mark, ids, records=None):
         simplices = flat[:finite * width].reshape(finite, width)
     _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets)
     if records is not None:
-        simplices = pages.keep_prefix(flat, finite * width).reshape(finite, width)
+        simplices = workspace.keep_prefix(flat, finite * width).reshape(finite, width)
     return simplices, neighbors, facets
 
 
