@@ -61,14 +61,21 @@ def orient2d_staged(ax, ay, bx, by, cx, cy, bound, static=np.inf):
     bcx = bx - cx
     acy = ay - cy
     bcy = by - cy
-    detleft = acx * bcy
-    detright = acy * bcx
-    det = detleft - detright
+    return orient2d_decide(acx * bcy - acy * bcx, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy,
+                           bound, static)
+
+
+@njit(cache=True, inline="always")
+def orient2d_decide(det, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy, bound, static):
+    """orient2d_staged of a, b, c from ``det``, which the caller computed as
+    ``acx * bcy - acy * bcx`` of the rounded differences ac = a - c and
+    bc = b - c (the merge shares differences and products between
+    predicates, lfqt.dc.merge): the same value and stage."""
     if abs(det) > static:
         return det, 0
     # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
     # random input and cost more than they save.
-    detsum = abs(detleft) + abs(detright)
+    detsum = abs(acx * bcy) + abs(acy * bcx)
     if abs(det) >= bound * detsum:
         return det, 0
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
@@ -170,11 +177,28 @@ def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound, static=np.inf):
     clift = cdx * cdx + cdy * cdy
     det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
            + clift * (adxbdy - bdxady))
+    return incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx,
+                           by, cx, cy, dx, dy, bound, static)
+
+
+@njit(cache=True, inline="always")
+def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx, by, cx,
+                    cy, dx, dy, bound, static):
+    """incircle_staged of a, b, c, d from ``det``, which the caller computed
+    as incircle_staged does from the rounded differences ad = a - d, bd,
+    cd and their lifts (``adx * adx + ady * ady``, ...):
+
+        alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy)
+            + clift * (adx * bdy - bdx * ady)
+
+    each product and sum as written, in this order (a cross product may be
+    the negation of the one with its factors swapped: that is exact).  The
+    same value and stage."""
     if abs(det) > static:
         return det, 0
-    permanent = ((abs(bdxcdy) + abs(cdxbdy)) * alift
-                 + (abs(cdxady) + abs(adxcdy)) * blift
-                 + (abs(adxbdy) + abs(bdxady)) * clift)
+    permanent = ((abs(bdx * cdy) + abs(cdx * bdy)) * alift
+                 + (abs(cdx * ady) + abs(adx * cdy)) * blift
+                 + (abs(adx * bdy) + abs(bdx * ady)) * clift)
     if abs(det) > bound * permanent:
         return det, 0
     return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
