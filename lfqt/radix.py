@@ -94,27 +94,11 @@ def radix_passes(keys, perm, lo, hi, key_buf, perm_buf, digits=8):
     length as keys).  Returns the number of scatters: when odd, the sorted
     range is in the scratch.  (9- and 11-bit digits, for fewer scatters,
     measured slower on Morton keys.)"""
-    n = hi - lo
-    if n < 2:
+    if hi - lo < 2:
         return 0
     counts = np.zeros((8, 256), dtype=np.int64)
     histograms(keys, lo, hi, counts, digits)
-    first = keys[lo]
-    passes = 0
-    offsets = np.empty(256, dtype=np.int64)
-    src_k, src_p, dst_k, dst_p = keys, perm, key_buf, perm_buf
-    for d in range(digits):
-        shift = np.uint64(8 * d)
-        if counts[d, (first >> shift) & _FF] == n:
-            continue
-        total = lo
-        for b in range(256):
-            offsets[b] = total
-            total += counts[d, b]
-        scatter(src_k, src_p, dst_k, dst_p, lo, hi, 8 * d, offsets)
-        src_k, src_p, dst_k, dst_p = dst_k, dst_p, src_k, src_p
-        passes += 1
-    return passes
+    return _lsd(keys, perm, key_buf, perm_buf, lo, hi, counts, keys[u(lo)], 0, digits, 0)
 
 
 @njit(cache=True, nogil=True)
