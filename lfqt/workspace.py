@@ -83,7 +83,8 @@ class Pool:
     def keep_prefix(self, a, count):
         """a[:count] (a 1D array); the whole pages past it go back to the
         system later (the module's last paragraph), where ``a`` lies on a
-        mapping of the pool."""
+        mapping of the pool.  From the call on, nothing may read the
+        mapping past the prefix: its pages turn to zeros at any time."""
         buf = pages.mapping_of(a)
         if buf is not None:
             start = _address(a) + count * a.itemsize - _address(_root(a))
