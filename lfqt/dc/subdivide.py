@@ -99,25 +99,29 @@ def subdivide_lfqt(gaps, lo, hi, ops, nops):
     """
     if hi <= lo:
         return nops
-    s_split = np.empty(STACK, dtype=np.int64)
-    s_bit = np.empty(STACK, dtype=np.int64)
-    top = -1  # open splits, bits strictly decreasing upwards
+    s_split = np.empty(STACK + 1, dtype=np.int64)
+    s_bit = np.empty(STACK + 1, dtype=np.int64)
+    # A sentinel that no bit exceeds spares the pops a bound check, and
+    # unsigned indices (lfqt.indexing.u) numba's wraparound of negative ones
+    # (1M uniform: 6.0 -> 5.4 ms; the sentinel with signed indices, 7.2 ms).
+    s_bit[0] = DUP
+    top = 0  # open splits from 1 up, bits strictly decreasing upwards
     ops[u(nops)] = -(lo + 1)
     nops += 1
     for i in range(lo + 1, hi):
         bit = np.int64(gaps[u(i)])
         if bit == DUP:
             continue
-        while top >= 0 and s_bit[top] < bit:
-            ops[u(nops)] = s_split[top]
+        while s_bit[u(top)] < bit:
+            ops[u(nops)] = s_split[u(top)]
             nops += 1
             top -= 1
         top += 1
-        s_split[top] = i
-        s_bit[top] = bit
+        s_split[u(top)] = i
+        s_bit[u(top)] = bit
         ops[u(nops)] = -(i + 1)
         nops += 1
-    while top >= 0:
+    while top > 0:
         ops[u(nops)] = s_split[top]
         nops += 1
         top -= 1
