@@ -514,14 +514,16 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         top += 1
         parts[top] = parts_in[i]
     for k in range(op_lo, op_hi):
-        op = ops[k]
+        op = ops[u(k)]
         if op < 0:  # push the single vertex -op - 1
             top += 1
             for j in range(SMALL):
-                parts[top, j] = -op - 1
-            parts[top, SMALL] = 1
+                parts[u(top), j] = -op - 1
+            parts[u(top), SMALL] = 1
             continue
-        lt, rt, code = top - 1, top, np.int64(codes[u(op)])
+        # unsigned rows: numba checks a signed index for wraparound at every
+        # access (1M uniform: merge 117.5-117.7 -> 114.3-114.7 ms)
+        lt, rt, code = u(top - 1), u(top), np.int64(codes[u(op)])
         x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
         l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
         r = parts[rt, XMIN if x_split else YMIN]
