@@ -30,9 +30,9 @@ past it back late: at the pool's next request, if the result is still
 alive then (so a caller that keeps each result while it asks for the next
 holds no more than before), after IDLE_SECONDS, or at ``release()``; and
 never if the result dies first and its mapping comes back to the pool
-whole, for the next call to write pages that are there.  Uniform points, one thread, each result freed
-before the next call: 1M 170.9-171.4 -> 168.2-168.4 ms a call, 100k
-15.3 -> 14.9 ms.
+whole, for the next call to write pages that are there.  Uniform points,
+one thread, each result freed before the next call, interleaved: 1M
+172.4-173.2 -> 169.0-169.6 ms a call, 100k 14.8-15.5 -> 14.7-14.8 ms.
 """
 import os
 import threading

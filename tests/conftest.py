@@ -54,7 +54,6 @@ def triangle_set(simplices):
     return out
 
 
-
 def smaps_entry(arr):
     """(resident kB, VmFlags) of the mapping that holds arr, from Linux's
     smaps; None where that is not available."""
@@ -69,6 +68,7 @@ def smaps_entry(arr):
         if lo <= start < hi:
             return int(m.group(3)), m.group(4).split()
     return None
+
 
 @pytest.fixture
 def rng():

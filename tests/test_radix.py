@@ -124,7 +124,6 @@ def test_runs_of_equal_high_words_across_chunks_are_ordered_once(rng, threads):
     assert np.array_equal(slo[run], lo[expect][run])
 
 
-
 def _leaf_sorted(keys):
     """leaf_passes on all 8 digits of keys: (sorted keys, perm, scatters)."""
     n = len(keys)
