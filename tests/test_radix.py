@@ -170,6 +170,7 @@ def test_insertion_sort_keeps_its_keys_and_their_order_when_it_gives_up(values, 
         ids = p[k == v]
         assert np.all(np.diff(ids) > 0)
 
+
 def test_constant_digits_are_skipped():
     keys = (np.arange(1000, dtype=np.uint64) << np.uint64(8)) | np.uint64(0xAB)
     keys = keys[::-1].copy()

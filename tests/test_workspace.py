@@ -94,7 +94,6 @@ def test_idle_mappings_are_unmapped_after_idle_seconds_and_by_release():
     assert pool.idle_bytes() == 0
 
 
-
 def _kept(pool, n=6_000_000, keep=1_000_003):
     """An array of n int32 written whole, and keep_prefix's prefix of it."""
     T = pool.empty(n, np.int32)
@@ -151,6 +150,7 @@ def test_a_result_freed_before_its_pages_go_back_returns_its_mapping_whole():
     assert _address(again) == where
     pool.release()  # nothing to give back any more: the next request's pages stay
     assert np.array_equal(again, np.arange(6_000_000, dtype=np.int32))
+
 
 def test_small_arrays_come_from_numpy():
     pool = workspace.Pool()
