@@ -62,13 +62,16 @@ def huge_pays(nbytes):
 
 
 def mapping_of(a):
-    """The mmap that array ``a`` (a view of lfqt.workspace's frombuffer
-    array) lies on, or None for memory from elsewhere."""
-    buf = a.base
-    while isinstance(buf, np.ndarray):
-        buf = buf.base
-    buf = buf.obj if isinstance(buf, memoryview) else buf
-    return buf if isinstance(buf, mmap.mmap) else None
+    """(the mmap that array ``a`` lies on, the byte offset of a's first
+    element in it) for a view of lfqt.workspace's frombuffer array, whose
+    data starts the mapping; None for memory from elsewhere."""
+    root = a
+    while isinstance(root.base, np.ndarray):
+        root = root.base
+    buf = root.base.obj if isinstance(root.base, memoryview) else root.base
+    if not isinstance(buf, mmap.mmap):
+        return None
+    return buf, a.__array_interface__["data"][0] - root.__array_interface__["data"][0]
 
 
 def give_back(buf, start):

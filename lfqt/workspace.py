@@ -85,9 +85,10 @@ class Pool:
         system later (the module's last paragraph), where ``a`` lies on a
         mapping of the pool.  From the call on, nothing may read the
         mapping past the prefix: its pages turn to zeros at any time."""
-        buf = pages.mapping_of(a)
-        if buf is not None:
-            start = _address(a) + count * a.itemsize - _address(_root(a))
+        found = pages.mapping_of(a)
+        if found is not None:
+            buf, offset = found
+            start = offset + count * a.itemsize
             with self._lock:
                 self._trims[id(buf)] = (buf, start, time.monotonic())
                 if self._timer is None:
@@ -194,18 +195,6 @@ def empty(shape, dtype, huge=None):
 def keep_prefix(a, count):
     """POOL.keep_prefix: a result's prefix of a call's array."""
     return POOL.keep_prefix(a, count)
-
-
-def _root(a):
-    """The array at the bottom of a's chain of views: on a mapping of the
-    pool, the one on its first byte (Pool.empty)."""
-    while isinstance(a.base, np.ndarray):
-        a = a.base
-    return a
-
-
-def _address(a):
-    return a.__array_interface__["data"][0]
 
 
 def release():

@@ -12,8 +12,9 @@ def test_give_back_keeps_the_pages_before_and_frees_those_after():
     T = workspace.Pool().empty(6_000_000, np.int32)
     T[:] = np.arange(len(T), dtype=np.int32)
     before = smaps_entry(T)
-    buf = pages.mapping_of(T[10:])
-    assert buf is not None and pages.mapping_of(np.arange(5)) is None
+    buf, offset = pages.mapping_of(T[10:])
+    assert offset == 40 and pages.mapping_of(T) == (buf, 0)
+    assert pages.mapping_of(np.arange(5)) is None
     pages.give_back(buf, 4_000_012 + 1)  # rounded up to a page: bytes before it are kept
     assert np.array_equal(T[:1_000_003], np.arange(1_000_003, dtype=np.int32))
     assert not T[1_000_000 + 1024:].any()  # read back as zeros
