@@ -60,14 +60,19 @@ def as_exact_float(points, dims):
 
 
 def coordinates2d(points, workers=None):
-    """Validate (n, 2) input; return (pts, scale exponent): pts is a
-    C-contiguous float32 or float64 (n, 2) array holding exactly the input
-    values, the input itself when it is one (no copy; a point's x and y
-    share a cache line, which the kernels read side by side); the exponent
-    is exponent_for's, from the same scan."""
-    arr = np.ascontiguousarray(as_exact_float(points, (2,)))
+    """Validate (n, 2) input; return (pts, scale exponent): pts is
+    exact_floats2d's, the exponent exponent_for's."""
+    arr = exact_floats2d(points)
     big, small = _checked_magnitudes(arr, workers)
     return arr, exponent_for(arr.dtype, big, small)
+
+
+def exact_floats2d(points):
+    """Validate (n, 2) input but for NaN and inf: a C-contiguous float32 or
+    float64 (n, 2) array holding exactly the input values, the input itself
+    when it is one (no copy; a point's x and y share a cache line, which the
+    kernels read side by side)."""
+    return np.ascontiguousarray(as_exact_float(points, (2,)))
 
 
 def _checked_magnitudes(arr, workers=None):
@@ -77,22 +82,38 @@ def _checked_magnitudes(arr, workers=None):
     rows are looked at one by one only to report a NaN or inf."""
     workers = workers or Workers(1)
     chunks = workers.chunks(arr.shape[0])
-    if arr.flags.c_contiguous and arr.dtype in _BITS:
-        ints, mask, inf = _BITS[arr.dtype]
+    if arr.flags.c_contiguous and arr.dtype in BITS:
+        ints, mask, inf = BITS[arr.dtype]
         flat, d = arr.reshape(-1).view(ints), arr.shape[1]
         parts = workers.map(chunks, lambda c, lo, hi: _scan_bits(flat, d * lo, d * hi,
                                                                  mask, inf))
-        if not any(p[0] for p in parts):
-            big = max((p[1] for p in parts), default=ints(0))
-            small = min((p[2] for p in parts), default=mask)
-            return (_float_of_bits(big, ints, arr.dtype),
-                    np.inf if small == mask else _float_of_bits(small, ints, arr.dtype))
+        return magnitudes(arr, parts, workers)
     parts = workers.map(chunks, lambda c, lo, hi: _scan(arr, lo, hi))
+    _report_nonfinite(parts)
+    return max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf)
+
+
+def _report_nonfinite(parts):
+    """ValueError naming the rows with NaN or inf, from _scan's parts."""
     bad = sum(p[0] for p in parts)
     if bad:
         first = min(p[1] for p in parts if p[0])
         raise ValueError(f"points contain NaN or inf in {bad} rows; the first is row {first}")
-    return max((p[2] for p in parts), default=0.0), min((p[3] for p in parts), default=np.inf)
+
+
+def magnitudes(arr, parts, workers=None):
+    """(max |v|, min nonzero |v|) of the C-contiguous float array ``arr``
+    from the (nonfinite, big, small) of _scan_bits over its chunks; a NaN or
+    inf is reported by the rows' scan (ValueError)."""
+    if any(p[0] for p in parts):
+        workers = workers or Workers(1)
+        _report_nonfinite(workers.map(workers.chunks(arr.shape[0]),
+                                      lambda c, lo, hi: _scan(arr, lo, hi)))
+    ints, mask, _ = BITS[arr.dtype]
+    big = max((p[1] for p in parts), default=ints(0))
+    small = min((p[2] for p in parts), default=mask)
+    return (_float_of_bits(big, ints, arr.dtype),
+            np.inf if small == mask else _float_of_bits(small, ints, arr.dtype))
 
 
 def _float_of_bits(bits, ints, dtype):
@@ -102,9 +123,9 @@ def _float_of_bits(bits, ints, dtype):
 
 # float dtype -> (signed int of its width, mask of all but the sign bit,
 # bit pattern of inf)
-_BITS = {np.dtype(np.float64): (np.int64, np.int64(0x7FFF_FFFF_FFFF_FFFF),
-                                np.int64(0x7FF0_0000_0000_0000)),
-         np.dtype(np.float32): (np.int32, np.int32(0x7FFF_FFFF), np.int32(0x7F80_0000))}
+BITS = {np.dtype(np.float64): (np.int64, np.int64(0x7FFF_FFFF_FFFF_FFFF),
+                               np.int64(0x7FF0_0000_0000_0000)),
+        np.dtype(np.float32): (np.int32, np.int32(0x7FFF_FFFF), np.int32(0x7F80_0000))}
 
 
 @njit(cache=True, nogil=True)
@@ -119,11 +140,17 @@ def _scan_bits(ints, lo, hi, mask, inf):
     big = mask - mask
     small = mask
     for k in range(lo, hi):
-        b = ints[u(k)] & mask
-        nonfinite |= b >= inf
-        big = max(big, b)
-        small = min(small, b if b != 0 else mask)
+        nonfinite, big, small = fold_bits(ints[u(k)], nonfinite, big, small, mask, inf)
     return nonfinite, big, small
+
+
+@njit(cache=True, inline="always")
+def fold_bits(b, nonfinite, big, small, mask, inf):
+    """One coordinate's bits, as a signed int of its width, folded into the
+    scan's (nonfinite, big, small) (_scan_bits; the Morton pass of
+    lfqt.dc folds them as it reads them for the keys)."""
+    b &= mask
+    return nonfinite | (b >= inf), max(big, b), min(small, b if b != 0 else mask)
 
 
 @njit(cache=True, nogil=True)

@@ -32,12 +32,15 @@ def test_rejects_integers_that_are_not_exact_in_float64():
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
-def test_rejects_nan_and_inf_naming_count_and_first_row(bad):
-    pts = np.random.default_rng(0).random((10, 2))
+@pytest.mark.parametrize("dtype, threads", [(np.float64, 1), (np.float32, 1), (np.float64, 2)])
+def test_rejects_nan_and_inf_naming_count_and_first_row(bad, dtype, threads):
+    pts = np.random.default_rng(0).random((200001, 2)).astype(dtype)  # chunks on 2 threads
     pts[3, 1] = bad
-    pts[7, 0] = bad
+    pts[150007, 0] = bad
     with pytest.raises(ValueError, match="2 rows; the first is row 3"):
-        lfqt.triangulate(pts)
+        lfqt.triangulate(pts, threads=threads)
+    with pytest.raises(ValueError, match="NaN or inf"):
+        lfqt.quadtree(pts[:10])
 
 
 @pytest.mark.parametrize("shape", [(5,), (5, 3), (2, 2, 2)])

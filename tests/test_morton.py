@@ -1,7 +1,7 @@
 import numpy as np
-from hypothesis import given, strategies as st
+from hypothesis import given, settings, strategies as st
 
-from lfqt import morton
+from lfqt import _input, morton
 
 f64 = st.floats(allow_nan=False)
 f32 = st.floats(allow_nan=False, width=32)
@@ -75,3 +75,30 @@ def test_numpy_ordered_bits_match_the_kernels_and_invert(values):
         assert [int(x) for x in b] == [int(kernel(u(x))) for x in v.view(u)]
         assert np.array_equal(from_ordered_bits(b, dtype), v + dtype(0.0))  # -0.0 as +0.0
         assert list(np.argsort(b, kind="stable")) == list(np.argsort(v, kind="stable"))
+
+
+@settings(deadline=None)
+@given(st.lists(st.floats(width=32) | st.sampled_from([0.0, -0.0, 5e-324]), min_size=2,
+                max_size=2 * (morton.SCAN_BLOCK + 40)),
+       st.sampled_from([np.float32, np.float64]), st.data())
+def test_the_pipeline_keys_pass_scans_the_input_and_starts_the_permutation(values, dtype, data):
+    """Over any range, the keys' pass of lfqt.dc gives the keys, perm[i] = i
+    and the input's bit scan (_input._scan_bits), across SCAN_BLOCK blocks,
+    with NaN, inf, zeros and subnormals."""
+    with np.errstate(under="ignore"):
+        pts = np.array(values[: len(values) // 2 * 2], dtype=dtype).reshape(-1, 2)
+    n = len(pts)
+    lo = data.draw(st.integers(0, n))
+    hi = data.draw(st.integers(lo, n))
+    keys, perm = np.zeros(n, np.uint64), np.full(n, -1, np.int32)
+    ints, mask, inf = _input.BITS[pts.dtype]
+    if dtype == np.float64:
+        scan = morton.morton_high64_into(pts.view(np.uint64), keys, perm, lo, hi)
+        want = morton.morton_keys64(pts[:, 0], pts[:, 1])[0]
+    else:
+        scan = morton.morton_keys32_into(pts.view(np.uint32), keys, perm, lo, hi)
+        want = morton.morton_keys32(pts[:, 0], pts[:, 1])
+    assert tuple(scan) == _input._scan_bits(pts.reshape(-1).view(ints), 2 * lo, 2 * hi, mask, inf)
+    assert np.array_equal(keys[lo:hi], want[lo:hi]) and not keys[:lo].any() and not keys[hi:].any()
+    assert np.array_equal(perm[lo:hi], np.arange(lo, hi)) and (perm[:lo] == -1).all()
+    assert (perm[hi:] == -1).all()

@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from .. import morton, radix, workspace
-from .._input import FORMATS, coordinates2d, index_dtype
+from .._input import FORMATS, exact_floats2d, exponent_for, index_dtype, magnitudes
 from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
@@ -135,19 +135,21 @@ def _point_specs(n, idx):
     return [(2 * n, np.float64), (max(2 * n, 1), idx)]
 
 
-def _sorted_points(pts, scale_exp, workers, idx_dtype, slots, points):
+def _sorted_points(pts, workers, idx_dtype, slots, points):
     """Phase 1: Morton keys of the C-contiguous (n, 2) points ``pts``, radix
     sort, the gaps between adjacent keys, and the points gathered in Morton
-    order as float64 scaled by 2**scale_exp (exact), in the mappings
-    ``slots`` and ``points`` (_memory).  Returns (khi, klo, gaps, perm, P);
-    khi is empty for 64-bit keys."""
+    order as float64 scaled by 2**scale_exp (exact; the exponent from the
+    scan of the keys' pass, lfqt._input), in the mappings ``slots`` and
+    ``points`` (_memory).  Returns (khi, klo, gaps, perm, P, scale_exp);
+    khi is empty for 64-bit keys.  ValueError for NaN or inf."""
     n = pts.shape[0]
-    khi, klo, perm = sorted_keys(pts, workers, idx_dtype, (slots, points))
+    khi, klo, perm, scan = sorted_keys(pts, workers, idx_dtype, (slots, points))
+    scale_exp = exponent_for(pts.dtype, *magnitudes(pts, scan, workers))
     gaps = key_gaps(khi, klo, pts.dtype == np.float64, workers)
     P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
     workers.map(workers.chunks(n),
                 lambda c, lo, hi: output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi))
-    return khi, klo, gaps, perm, P
+    return khi, klo, gaps, perm, P, scale_exp
 
 
 def key_gaps(khi, klo, wide, workers):
@@ -161,9 +163,10 @@ def key_gaps(khi, klo, wide, workers):
 
 def sorted_keys(pts, workers, idx_dtype, scratch=None):
     """Morton keys of the C-contiguous (n, 2) float32 or float64 points and
-    their radix sort: (khi, klo, perm), khi empty for 64-bit keys (float32
-    input).  ``scratch``: the mappings of _memory, the keys in the first
-    (default: new arrays)."""
+    their radix sort: (khi, klo, perm, scan), khi empty for 64-bit keys
+    (float32 input), scan the chunks' scans of the coordinates that the
+    keys' pass makes (lfqt.morton, lfqt._input.magnitudes).  ``scratch``:
+    the mappings of _memory, the keys in the first (default: new arrays)."""
     n = pts.shape[0]
     wide = pts.dtype == np.float64
     specs = _sort_specs(n, wide)
@@ -172,17 +175,18 @@ def sorted_keys(pts, workers, idx_dtype, scratch=None):
     perm_buf = workspace.views(points, (n, idx_dtype))[0]
     chunks = workers.chunks(n)
     perm = workspace.empty(n, idx_dtype)
-    workers.map(chunks, lambda c, lo, hi: iota(perm, lo, hi))
     if wide:  # the low words from the points' bits, in runs of equal high words only
         khi, key_buf, slo = workspace.views(slots, *specs)
         bits = pts.view(np.uint64)
-        workers.map(chunks, lambda c, lo, hi: morton.morton_high64_into(bits, khi, lo, hi))
-        return radix.sort_keys128(khi, bits, perm, workers, (key_buf, perm_buf), slo)
+        scan = workers.map(chunks, lambda c, lo, hi: morton.morton_high64_into(bits, khi, perm,
+                                                                               lo, hi))
+        return (*radix.sort_keys128(khi, bits, perm, workers, (key_buf, perm_buf), slo), scan)
     keys, key_buf = workspace.views(slots, *specs)
     bits = pts.view(np.uint32)
-    workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, lo, hi))
+    scan = workers.map(chunks, lambda c, lo, hi: morton.morton_keys32_into(bits, keys, perm, lo,
+                                                                           hi))
     klo, perm = radix.sort_keys(keys, perm, workers, scratch=(key_buf, perm_buf))
-    return klo[:0], klo, perm
+    return klo[:0], klo, perm, scan
 
 
 def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, points):
@@ -225,12 +229,12 @@ def _serial(state, subdivision, counts):
 
 def _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf=None):
     t0 = time.perf_counter()
-    pts, scale_exp = coordinates2d(points, workers)
+    pts = exact_floats2d(points)  # NaN and inf: in the keys' pass (_sorted_points)
     n = pts.shape[0]
     t_validate = time.perf_counter()
     idx = index_dtype(n)
     slots, points_mem = _memory(n, idx)
-    khi, klo, gaps, perm, P = _sorted_points(pts, scale_exp, workers, idx, slots, points_mem)
+    khi, klo, gaps, perm, P, scale_exp = _sorted_points(pts, workers, idx, slots, points_mem)
     dtype = pts.dtype
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from .. import morton
-from .._input import FORMATS, as_exact_float, index_dtype
+from .._input import FORMATS, exact_floats2d, index_dtype, magnitudes
 from ..workers import Workers
 from . import key_gaps, sorted_keys, subdivide
 
@@ -93,13 +93,12 @@ def _low_mask(count, width):
 def quadtree(points):
     """The LFQT of 2D points (float32 or float64 bits, never rounded), as
     lfqt's divide and conquer subdivides it; see ``Quadtree``."""
-    arr = as_exact_float(points, (2,))
-    if not np.isfinite(arr).all():
-        raise ValueError("points contain NaN or inf")
+    arr = exact_floats2d(points)
     x, y = arr[:, 0], arr[:, 1]
     n = x.shape[0]
     workers = Workers(1)
-    khi, klo, perm = sorted_keys(np.ascontiguousarray(arr), workers, index_dtype(n))
+    khi, klo, perm, scan = sorted_keys(arr, workers, index_dtype(n))
+    magnitudes(arr, scan)  # ValueError for NaN or inf
     gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
     nops = subdivide.subdivide_lfqt(gaps, 0, n, ops, 0)
