@@ -296,9 +296,13 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     khi = np.array([k >> 64 for k in keys], dtype=np.uint64)
     klo = np.array([k & (2 ** 64 - 1) for k in keys], dtype=np.uint64)
     gaps = np.zeros(n, dtype=np.uint8)
-    subdivide.gap_bits(khi, klo, True, gaps, 0, n)
+    copies = subdivide.gap_bits(khi, klo, True, gaps, 0, n)
     assert [gaps[i] == subdivide.DUP for i in range(1, n)] == \
         [keys[i] == keys[i - 1] for i in range(1, n)]
+    assert copies == (len(set(keys)) < n)
+    part = np.zeros(n, dtype=np.uint8)  # a range's copies: past position 0 only
+    assert subdivide.gap_bits(khi, klo, True, part, lo, hi) == \
+        any(keys[i] == keys[i - 1] for i in range(max(lo, 1), hi))
     assert subdivide.run_starts(gaps, lo, hi).tolist() == \
         [i for i in range(lo, hi) if i == lo or keys[i] != keys[i - 1]]
     ops = np.zeros(2 * n + 3, dtype=np.int64)

@@ -4,7 +4,6 @@ import numpy as np
 from hypothesis import given, strategies as st
 
 from lfqt.dc import output
-from lfqt.dc.subdivide import DUP
 from lfqt.workers import Workers
 
 
@@ -20,11 +19,3 @@ def test_parallel_move_equals_a_forward_copy(dst, gap, count, threads):
         w.chunks = lambda n, min_chunk=1, _c=w.chunks: _c(n, min_chunk=1)
         output.move_rows_parallel(T, src, dst, count, w)
     assert np.array_equal(T, want)
-
-
-@given(st.lists(st.sampled_from([0, 5, DUP]), max_size=40), st.integers(0, 45), st.integers(0, 45))
-def test_has_copies_looks_past_position_zero_only(gaps, lo, hi):
-    g = np.array(gaps, dtype=np.uint8)
-    hi = min(hi, len(g))
-    want = bool(np.any(g[max(lo, 1):hi] == DUP))
-    assert output.has_copies(g, lo, hi) == want

@@ -140,16 +140,22 @@ def _sorted_points(pts, workers, idx_dtype, slots, points):
     sort, the gaps between adjacent keys, and the points gathered in Morton
     order as float64 scaled by 2**scale_exp (exact; the exponent from the
     scan of the keys' pass, lfqt._input), in the mappings ``slots`` and
-    ``points`` (_memory).  Returns (khi, klo, gaps, perm, P, scale_exp);
-    khi is empty for 64-bit keys.  ValueError for NaN or inf."""
+    ``points`` (_memory).  Returns (khi, klo, gaps, whether a key repeats,
+    perm, P, scale_exp); khi is empty for 64-bit keys.  ValueError for NaN
+    or inf."""
     n = pts.shape[0]
     khi, klo, perm, scan = sorted_keys(pts, workers, idx_dtype, (slots, points))
     scale_exp = exponent_for(pts.dtype, *magnitudes(pts, scan, workers))
-    gaps = key_gaps(khi, klo, pts.dtype == np.float64, workers)
+    scale = 2.0 ** scale_exp
+    wide = pts.dtype == np.float64
+    gaps = workspace.empty(n, np.uint8)
     P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
-    workers.map(workers.chunks(n),
-                lambda c, lo, hi: output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi))
-    return khi, klo, gaps, perm, P, scale_exp
+
+    def gaps_and_points(c, lo, hi):  # one parallel step for the two (key_gaps)
+        output.gather_points(pts, perm, scale, P, lo, hi)
+        return subdivide.gap_bits(khi, klo, wide, gaps, lo, hi)
+    copies = any(workers.map(workers.chunks(n), gaps_and_points))
+    return khi, klo, gaps, copies, perm, P, scale_exp
 
 
 def key_gaps(khi, klo, wide, workers):
@@ -189,7 +195,7 @@ def sorted_keys(pts, workers, idx_dtype, scratch=None):
     return klo[:0], klo, perm, scan
 
 
-def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, points):
+def _state(P, khi, klo, gaps, copies, perm, dtype, scale_exp, level_filter, slots, points):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
     the sorted keys and points, T and ops in the call's mappings (_memory).
     T is not filled: every slot a merge owns is written by it, and the
@@ -203,7 +209,7 @@ def _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, point
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
     mesh = Mesh(P, T, workspace.empty(n, idx), fmt, level_filter)
-    return State(khi, klo, dtype == np.float64, mesh, ops, gaps, gaps)
+    return State(khi, klo, dtype == np.float64, mesh, ops, gaps, gaps, copies)
 
 
 def _serial(state, subdivision, counts):
@@ -234,12 +240,14 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     t_validate = time.perf_counter()
     idx = index_dtype(n)
     slots, points_mem = _memory(n, idx)
-    khi, klo, gaps, perm, P, scale_exp = _sorted_points(pts, workers, idx, slots, points_mem)
+    khi, klo, gaps, copies, perm, P, scale_exp = _sorted_points(pts, workers, idx, slots,
+                                                                points_mem)
     dtype = pts.dtype
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
-    state = _state(P, khi, klo, gaps, perm, dtype, scale_exp, level_filter, slots, points_mem)
+    state = _state(P, khi, klo, gaps, copies, perm, dtype, scale_exp, level_filter, slots,
+                   points_mem)
     del slots  # T's array holds it from here on
     del P, khi, klo, gaps
     counts = new_counters()
@@ -295,12 +303,13 @@ def _output(state, perm, root, workers, points_mem):
     ``neighbors`` in T's own memory (lfqt.dc.output), ``simplices`` in
     P's and ops' (``points_mem``, _memory) and ``duplicate_of`` in
     ghost_out's, so that no array of the mesh and of the result coexist."""
-    T, ghost_out, gaps, codes = state.mesh.T, state.mesh.ghost_out, state.gaps, state.codes
+    T, ghost_out, gaps, codes, copies = (state.mesh.T, state.mesh.ghost_out, state.gaps,
+                                         state.codes, state.copies)
     state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # P, ops
     n = len(perm)
     idx = perm.dtype
     start = int(ghost_out[root[XMIN]]) if len(T) else -1  # a ghost of the hull ring
-    duplicate_of, n_distinct = _duplicate_of(gaps, perm, workers, ghost_out)
+    duplicate_of, n_distinct = _duplicate_of(gaps, copies, perm, workers, ghost_out)
     del ghost_out
     nblocks = -(-(len(T) // 6) // output.BLOCK)
     chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
@@ -334,15 +343,15 @@ def _output(state, perm, root, workers, points_mem):
     return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
 
 
-def _duplicate_of(gaps, perm, workers, out):
+def _duplicate_of(gaps, copies, perm, workers, out):
     """(duplicate_of, number of distinct points), written into ``out``: the
-    identity when no key repeats (the common case: a sequential write
-    instead of a scatter to the input order, 44.5 -> 9.7 ms at 10M on one
-    thread), else each point's first copy (output.duplicates_into); by
-    ranges over ``workers``."""
+    identity when no key repeats (``copies`` False, the common case: a
+    sequential write instead of a scatter to the input order, 44.5 -> 9.7
+    ms at 10M on one thread), else each point's first copy
+    (output.duplicates_into); by ranges over ``workers``."""
     n = len(perm)
     chunks = workers.chunks(n)
-    if not any(workers.map(chunks, lambda c, lo, hi: output.has_copies(gaps, lo, hi))):
+    if not copies:
         workers.map(chunks, lambda c, lo, hi: iota(out, lo, hi))
         return out, n
     n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(

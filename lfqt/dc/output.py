@@ -139,16 +139,6 @@ def move_rows_parallel(T, src, dst, count, workers):
         start += piece
 
 
-@njit(cache=True, nogil=True)
-def has_copies(gaps, lo, hi):
-    """Whether a key in [lo, hi) repeats the one before it (gaps[0], DUP by
-    convention, is not a copy)."""
-    for i in range(max(lo, 1), hi):
-        if gaps[u(i)] == DUP:
-            return True
-    return False
-
-
 @njit(cache=True)
 def hull_loop(T, start_ghost, perm, index_sample):
     """Counter-clockwise hull vertices (input indices) by walking the ghost

@@ -20,6 +20,7 @@ class State:
     ops: np.ndarray    # the post-order ops: 2n slots, a range [2 lo, 2 hi) per bin
     gaps: np.ndarray   # uint8, lfqt.dc.subdivide.gap_bits: splits and runs of equal keys
     codes: np.ndarray  # the merges' codes by split position: gaps, or the ablation's
+    copies: bool       # a key repeats (gaps has a DUP past position 0)
 
     @property
     def n(self):

@@ -62,7 +62,9 @@ def _has_bit(hi, lo, bit):
 @njit(cache=True, nogil=True)
 def gap_bits(khi, klo, wide, gaps, lo, hi):
     """gaps[i] for i in [lo, hi): the highest bit in which sorted keys i - 1
-    and i differ, or DUP when they are equal (and for i = 0)."""
+    and i differ, or DUP when they are equal (and for i = 0).  Returns
+    whether a key in [lo, hi) repeats the one before it."""
+    copies = False
     for i in range(lo, hi):
         if i == 0:
             gaps[0] = DUP
@@ -71,7 +73,9 @@ def gap_bits(khi, klo, wide, gaps, lo, hi):
             bit = _diff_bit(khi[u(i - 1)], klo[u(i - 1)], khi[u(i)], klo[u(i)])
         else:
             bit = _diff_bit(_ZERO, klo[u(i - 1)], _ZERO, klo[u(i)])
+        copies |= bit < 0
         gaps[u(i)] = DUP if bit < 0 else bit
+    return copies
 
 
 def run_starts(gaps, lo, hi):
