@@ -315,7 +315,12 @@ def _output(state, perm, root, workers, points_mem):
     chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
-    workers.map(chunks, lambda c, lo, hi: output.mark_used(codes, bits, counts, lo, hi))
+
+    def mark(c, lo, hi):  # with the identity's share of duplicate_of: one step for the two
+        output.mark_used(codes, bits, counts, lo, hi)
+        if not copies:
+            iota(duplicate_of, n * c // len(chunks), n * (c + 1) // len(chunks))
+    workers.map(chunks, mark)
     if len(T) and root[SMALL] != 1:
         output.clear_ghosts(T, start, bits, counts)
     first = np.zeros(nblocks + 1, dtype=np.int64)
@@ -344,15 +349,15 @@ def _output(state, perm, root, workers, points_mem):
 
 
 def _duplicate_of(gaps, copies, perm, workers, out):
-    """(duplicate_of, number of distinct points), written into ``out``: the
-    identity when no key repeats (``copies`` False, the common case: a
-    sequential write instead of a scatter to the input order, 44.5 -> 9.7
-    ms at 10M on one thread), else each point's first copy
-    (output.duplicates_into); by ranges over ``workers``."""
+    """(duplicate_of, number of distinct points) in ``out``: each point's
+    first copy (output.duplicates_into), by ranges over ``workers``, or
+    when no key repeats (``copies`` False, the common case) ``out`` as it
+    is, to be the identity (_output writes it: a sequential write instead
+    of a scatter to the input order, 44.5 -> 9.7 ms at 10M on one
+    thread)."""
     n = len(perm)
     chunks = workers.chunks(n)
     if not copies:
-        workers.map(chunks, lambda c, lo, hi: iota(out, lo, hi))
         return out, n
     n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(
         gaps, perm, out, lo, hi))))
