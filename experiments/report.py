@@ -601,11 +601,11 @@ def _machine(res):
     for name in ("fig3", "fig4", "fig5", "fig6", "fig7", "table1", "liu_times", "liu_counts"):
         m = res.meta(name)
         if m:
-            vm = ("; a VM that hands freed memory back to its host (free page reporting, "
-                  f"order {m['free_page_reporting_order']}): fresh memory costs it host faults, "
-                  "and times swing from run to run"
-                  if m.get("host_takes_free_pages", m.get("free_page_reporting_order") is not None)
-                  else "")
+            order = m.get("free_page_reporting_order")
+            how = "free page reporting" + (f", order {order}" if order is not None else "")
+            vm = (f"; a VM that hands freed memory back to its host ({how}): fresh memory costs "
+                  "it host faults, and times swing from run to run"
+                  if m.get("host_takes_free_pages", order is not None) else "")
             return (f"{m.get('cpu', '?')}, {m.get('physical_cores', m.get('cores', '?'))} cores "
                     f"({m.get('logical_cpus', m.get('cores', '?'))} logical), "
                     f"{(m.get('memory_bytes') or 0) / 2**30:.0f} GiB{vm}; commit "

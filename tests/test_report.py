@@ -162,3 +162,7 @@ def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
     assert report._machine(report.Results(tmp_path)).startswith(
         "Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
+    meta.update(host_takes_free_pages=True, free_page_reporting_order=None)  # a balloon only
+    (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
+    line = report._machine(report.Results(tmp_path))
+    assert "to its host (free page reporting): fresh" in line and "None" not in line
