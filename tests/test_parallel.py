@@ -179,6 +179,32 @@ def test_levels_run_the_bins_largest_first_on_threads_then_each_height():
         assert calls == [("bin", k) for k in first] + [("merge", 2), ("merge", 4)]
 
 
+def test_tasks_take_a_ready_merge_before_the_largest_bin_left():
+    # bins 0 [0, 30), 1 [30, 50), 3 [50, 60); merges 2 = 0 + 1, 4 = 2 + 3
+    nodes = np.array([[0, 30, -1, -1, -1, -1], [30, 50, -1, -1, -1, -1], [0, 50, 30, 5, 0, 1],
+                      [50, 60, -1, -1, -1, -1], [0, 60, 50, 6, 2, 3]])
+    calls = []
+    one_at_a_time = SimpleNamespace(threads=2, each=lambda fn, items: [fn(k) for k in items])
+    bins._run_tasks(bins._Tree(nodes), one_at_a_time, lambda k: calls.append(("bin", k)),
+                    lambda k: calls.append(("merge", k)))
+    assert calls == [("bin", 0), ("bin", 1), ("merge", 2), ("bin", 3), ("merge", 4)]
+
+
+def test_tasks_run_every_item_once_on_threads_and_children_first():
+    nodes = np.array([[0, 30, -1, -1, -1, -1], [30, 50, -1, -1, -1, -1], [0, 50, 30, 5, 0, 1],
+                      [50, 60, -1, -1, -1, -1], [0, 60, 50, 6, 2, 3]])
+    ended, lock = [], threading.Lock()
+
+    def run(k):
+        time.sleep(0.01 * (nodes[k, 1] - nodes[k, 0]) / 30)
+        with lock:
+            assert all(c in ended for c in nodes[k, 4:] if nodes[k, 2] >= 0)
+            ended.append(int(k))
+    with Workers(3) as w:
+        bins._run_tasks(bins._Tree(nodes), w, run, run)
+    assert sorted(ended) == [0, 1, 2, 3, 4] and ended[-1] == 4
+
+
 def test_bad_schedule():
     with pytest.raises(ValueError, match="schedule"):
         lfqt.triangulate(np.random.default_rng(0).random((30, 2)), threads=1, schedule="x")

@@ -24,13 +24,13 @@ from .state import State
 
 SUBDIVISIONS = ("lfqt", "alternating")
 FILTERS = ("level", "constant")
-SCHEDULES = ("levels", "tasks")
+SCHEDULES = ("tasks", "levels")
 METHODS = ("dc", "hybrid")
 LEAF_SIZE = 1024  # keys per bin of the hybrid method (see experiments.hybrid)
 
 
 def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter="level",
-                schedule="levels", method="dc", leaf_size=None, leaf_order="hilbert"):
+                schedule="tasks", method="dc", leaf_size=None, leaf_order="hilbert"):
     """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
 
     Parameters
@@ -54,11 +54,10 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
     filter : {"level", "constant"}
         Stage-1 error bound: level-dependent (fqDel 2.4, LFQT only) or
         Triangle's constant.
-    schedule : {"levels", "tasks"}
-        The upper merges run level by level with a barrier after each
-        (default, measured faster on our 2-core machines, see lfqt.dc.bins),
-        or each as soon as both of its children are done (the paper's
-        split-list).
+    schedule : {"tasks", "levels"}
+        Each upper merge runs as soon as both of its children are done (the
+        paper's split-list; default, measured faster on our 2-core machines,
+        see lfqt.dc.bins), or level by level with a barrier after each.
     method : {"dc", "hybrid"}
         Divide and conquer all the way down, or (paper 1's open question,
         lfqt.dc.hybrid) incremental insertion in the LFQT cells of at most

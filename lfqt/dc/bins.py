@@ -5,20 +5,23 @@ because a split is a binary search over sorted keys.  Each bin is subdivided
 and merged by the jitted kernels with the GIL released, writing only its own
 op range ``[2 lo, 2 hi)``, its own triangle slots and its own vertices.  A
 merge of the upper part either starts as soon as both of its children are
-done (``schedule="tasks"``, the paper's split-list of Fig. 2, with a small
-scheduler in Python threads standing in for its atomic counters: numba has
-none, and tasks are coarse), or waits for all merges of the level below
-(``schedule="levels"``, a barrier per level).  On our 2-core machines,
-at 4M uniform points and 2 threads, "levels" measured 1.21-1.43 s and
-"tasks" 1.55-1.88 s over several series (medians of 7, fresh processes;
-mostly in allocation and output, not in the merges), so "levels" is the
-default; with many cores and deep upper trees "tasks" should win.
+done (``schedule="tasks"``, the default: the paper's split-list of Fig. 2,
+with a small scheduler in Python threads standing in for its atomic
+counters, numba has none, and tasks are coarse), or waits for all merges of
+the level below (``schedule="levels"``, a barrier per level).  On our
+2-core machines, 2 threads, medians of 11 interleaved calls, "tasks" took
+81.5-82.6 ms at 1M uniform points against 82.5-83.3 for "levels", and
+869 against 871 ms at 10M: a thread out of bins takes the merges whose
+children are done instead of waiting at the barrier.  (A first "tasks",
+which submitted every item to the pool and left the caller waiting,
+measured 88-95 ms at 1M.)
 
 The triangulation does not depend on the thread count: the tree, hence every
 merge and every slot id, depends only on the keys.
 """
 import threading
 import time
+from collections import deque
 
 import numpy as np
 
@@ -53,7 +56,7 @@ class _Tree:
         self.bins = [k for k in range(m) if nodes[k, 2] < 0]
 
 
-def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
+def build(state, workers, schedule="tasks", bin_size=None, insert_order=None):
     """Triangulate the sorted points of ``state`` (lfqt.dc.state.State) on
     ``workers``.  Returns (root partition row, counts, stats).  ``bin_size``
     caps the keys per bin (default: BINS_PER_THREAD bins per thread); with
@@ -107,7 +110,7 @@ def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     elif workers.pool is None:  # one thread (the hybrid method): bins, then merges, in order
         _run_levels(tree, workers, run_bin, run_merge)
     elif schedule == "tasks":
-        _run_tasks(tree, workers.pool, run_bin, run_merge)
+        _run_tasks(tree, workers, run_bin, run_merge)
     elif schedule == "levels":
         _run_levels(tree, workers, run_bin, run_merge)
     else:
@@ -119,44 +122,52 @@ def build(state, workers, schedule="levels", bin_size=None, insert_order=None):
     return tree.parts[len(nodes) - 1], total, stats
 
 
-def _run_tasks(tree, pool, run_bin, run_merge):
-    """Dependency-driven: a merge is submitted when its second child ends."""
-    pending = np.full(len(tree.nodes), 2, dtype=np.int64)
-    lock = threading.Lock()
-    done = threading.Event()
+def _run_tasks(tree, workers, run_bin, run_merge):
+    """Dependency-driven, on the caller and threads - 1 pool threads
+    (Workers.each): each takes the next ready item, a merge whose two
+    children are done before any bin (it is on the way to the root), else
+    the largest bin left, and waits only when nothing is ready."""
+    nodes = tree.nodes
+    bins_left = sorted(tree.bins, key=lambda k: nodes[k, 1] - nodes[k, 0])  # largest last
+    merges = deque()
+    children_left = np.full(len(nodes), 2, dtype=np.int64)
+    remaining = [len(nodes)]
     errors = []
-    root = len(tree.nodes) - 1
+    cond = threading.Condition()
 
-    def finished(k):
-        if k == root:
-            done.set()
-            return
-        parent = tree.parent[k]
-        with lock:
-            pending[parent] -= 1
-            ready = pending[parent] == 0
-        if ready:
-            submit(run_merge, parent)
+    def take():
+        with cond:
+            while not errors and remaining[0] and not merges and not bins_left:
+                cond.wait()
+            if errors or not remaining[0]:
+                return None, -1
+            return (run_merge, merges.popleft()) if merges else (run_bin, bins_left.pop())
 
-    def task(fn, k):
-        if errors:
-            return
-        try:
-            fn(k)
-        except BaseException as e:  # noqa: BLE001 - re-raised in the caller
-            errors.append(e)
-            done.set()
-            return
-        finished(k)
+    def done(k):
+        with cond:
+            remaining[0] -= 1
+            parent = tree.parent[k]
+            if parent >= 0:
+                children_left[parent] -= 1
+                if children_left[parent] == 0:
+                    merges.append(parent)
+            cond.notify_all()
 
-    def submit(fn, k):
-        pool.submit(task, fn, k)
+    def work(_):
+        while True:
+            fn, k = take()
+            if fn is None:
+                return
+            try:
+                fn(k)
+            except BaseException as e:  # noqa: BLE001 - re-raised in the caller
+                with cond:
+                    errors.append(e)
+                    cond.notify_all()
+                return
+            done(k)
 
-    # In address order: neighbouring bins share pages and cache lines, and
-    # largest-first measured slower here (it scatters the memory traffic).
-    for k in tree.bins:
-        submit(run_bin, k)
-    done.wait()
+    workers.each(work, range(workers.threads))
     if errors:
         raise errors[0]
 
