@@ -4,14 +4,12 @@ The calling thread works too: ``each`` hands the items out one at a time
 to the caller and to threads - 1 pool threads, so that a parallel step
 costs one wake-up of a pool thread and no sleep of the caller.  Two
 threads, two chunks of a trivial kernel: 102-124 -> 69-85 us a step,
-against 10 us inline; a 1M call on 2 threads takes about 20 steps.  The
-pool keeps ``threads`` threads for the schedules that submit to it
-directly (lfqt.dc.bins' tasks).
+against 10 us inline; a 1M call on 2 threads takes about 20 steps.
 
-The pools outlive a call, one per thread count in the process (``_pool``):
-a pool made for each call started its threads in its first step and
-joined them at its end, 0.2-0.7 ms of a 1M call on 2 threads that takes
-about 85 ms."""
+The pools outlive a call, one of threads - 1 threads per thread count in
+the process (``_pool``): a pool made for each call started its threads in
+its first step and joined them at its end, 0.2-0.7 ms of a 1M call on 2
+threads that takes about 85 ms."""
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
@@ -25,7 +23,7 @@ class Workers:
 
     def __init__(self, threads):
         self.threads = max(1, int(threads))
-        self.pool = _pool(self.threads) if self.threads > 1 else None
+        self.pool = _pool(self.threads - 1) if self.threads > 1 else None
 
     def __enter__(self):
         return self
@@ -83,12 +81,12 @@ _pools = {}
 _pools_lock = threading.Lock()
 
 
-def _pool(threads):
-    """The process's pool of ``threads`` threads, made on first use."""
+def _pool(helpers):
+    """The process's pool of ``helpers`` threads, made on first use."""
     with _pools_lock:
-        if threads not in _pools:
-            _pools[threads] = ThreadPoolExecutor(threads, thread_name_prefix="lfqt")
-        return _pools[threads]
+        if helpers not in _pools:
+            _pools[helpers] = ThreadPoolExecutor(helpers, thread_name_prefix="lfqt")
+        return _pools[helpers]
 
 
 # A forked child has none of its parent's threads: its pools start afresh.
