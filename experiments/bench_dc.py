@@ -5,7 +5,14 @@ input in the same run, single thread.
                                    [--repeats K] [--peers a,b] [--dists a,b]
                                    [--sizes 1e5,1e6] [--no-compile-time]
 
-Every cell runs in a child process after an untimed warm-up.  The grid is
+Every cell runs in a child process after an untimed warm-up.  lfqt's time is
+the whole ``lfqt.triangulate`` call: validation, the triangulation, and the
+simplices, neighbours, hull and duplicate_of arrays in input indices (the
+output phase alone is about a tenth of it at 1M).  Triangle's (triangle-
+native) is its ``triangulate`` call, which writes its triangle list (not
+its neighbours: switches zQNBP).  CGAL's is ``dt.insert`` alone on points already in a ``std::vector``,
+the triangulation left in CGAL's own structure (the driver maps it to input
+indices after the timed region): the CGAL ratios lean towards CGAL.  The grid is
 measured R times, round after round (default 3 rounds of 3 runs), so that a
 drift of this shared machine's speed hits every peer alike; medians and
 minima pool the rounds.  We print each peer's median as a ratio to
