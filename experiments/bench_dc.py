@@ -8,21 +8,21 @@ input in the same run, single thread.
 Every cell runs in a child process after an untimed warm-up.  lfqt's time is
 the whole ``lfqt.triangulate`` call: validation, the triangulation, and the
 simplices, neighbours, hull and duplicate_of arrays in input indices (the
-output phase alone is about a tenth of it at 1M).  Triangle's (triangle-
-native) is its ``triangulate`` call, which writes its triangle list (not
-its neighbours: switches zQNBP).  CGAL's is ``dt.insert`` alone on points already in a ``std::vector``,
-the triangulation left in CGAL's own structure (the driver maps it to input
-indices after the timed region): the CGAL ratios lean towards CGAL.  The grid is
-measured R times, round after round (default 3 rounds of 3 runs), so that a
-drift of this shared machine's speed hits every peer alike; medians and
-minima pool the rounds.  We print each peer's median as a ratio to
-lfqt-dc's (> 1: lfqt is faster; targets against each family's fastest
-variant: Triangle >= 3, CGAL >= 2.5), beside it the median of the ratios
-of each round's own medians (results.round_ratio: robust to a round the
-whole machine ran slow in), lfqt's
-rate in points/s and its peak memory above the input in bytes per point.
-Compile time is measured apart, in fresh interpreters with a cold and a
-warm numba cache.  Results: results/bench_dc/ (tidy CSV, metadata,
+output phase alone is about a tenth of it at 1M).  Triangle's
+(triangle-native) is its ``triangulate`` call, which writes its triangle
+list (not its neighbours: switches zQNBP).  CGAL's is ``dt.insert`` alone on
+points already in a ``std::vector``, the triangulation left in CGAL's own
+structure (the driver maps it to input indices after the timed region): the
+CGAL ratios lean towards CGAL.  The grid is measured R times, round after
+round (default 3 rounds of 3 runs), so that a drift of this shared machine's
+speed hits every peer alike; medians and minima pool the rounds.  We print
+each peer's median as a ratio to lfqt-dc's (> 1: lfqt is faster; targets
+against each family's fastest variant: Triangle >= 3, CGAL >= 2.5), beside
+it the median of the ratios of each round's own medians
+(results.round_ratio: robust to a round the whole machine ran slow in),
+lfqt's rate in points/s and its peak memory above the input in bytes per
+point.  Compile time is measured apart, in fresh interpreters with a cold
+and a warm numba cache.  Results: results/bench_dc/ (tidy CSV, metadata,
 compile.json), figure results/figures/bench_dc.png.
 """
 import json

@@ -268,7 +268,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
     subdivide_wall = phases["subdivide_top"] + (0.0 if parallel_run else phases["subdivide_lower"])
-    stats = {
+    stats = {  # validate: dtypes and shapes (NaN, inf and magnitudes: in the sort's keys pass)
         "seconds": {"validate": t_validate - t0, "sort": t_sort - t_validate,
                     "allocate": t_alloc - t_sort, "subdivide": subdivide_wall,
                     "merge": t_merge - t_alloc - subdivide_wall, "output": t_output - t_merge,
@@ -355,9 +355,9 @@ def _duplicate_of(gaps, copies, perm, workers, out):
     of a scatter to the input order, 44.5 -> 9.7 ms at 10M on one
     thread)."""
     n = len(perm)
-    chunks = workers.chunks(n)
     if not copies:
         return out, n
+    chunks = workers.chunks(n)
     n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(
         gaps, perm, out, lo, hi))))
     return out, n_distinct
