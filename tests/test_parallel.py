@@ -146,6 +146,43 @@ def test_workers_each_runs_every_item_once_on_the_caller_and_the_pool():
         assert w.each(slow, [5])[0][1] == threading.main_thread().name
 
 
+def test_workers_share_a_pool_and_do_not_wait_for_a_helper_still_queued():
+    a, b = Workers(2), Workers(2)
+    assert a.pool is b.pool and Workers(3).pool is not a.pool
+    release = threading.Event()
+    blocker = a.pool.submit(release.wait, 10)  # the pool's one thread is busy elsewhere
+    try:
+        assert b.each(lambda k: k * k, range(5)) == [0, 1, 4, 9, 16]  # all on the caller
+        assert not blocker.done()  # each() did not wait for its queued helper
+    finally:
+        release.set()
+    assert blocker.result() is True
+
+
+def test_a_forked_child_has_pool_threads_of_its_own():
+    code = textwrap.dedent("""
+        import multiprocessing, threading, time
+        from lfqt.workers import Workers
+
+        def names():
+            def slow(k):
+                time.sleep(0.002)
+                return threading.current_thread().name
+            return sorted(set(Workers(2).each(slow, range(40))))
+
+        if __name__ == "__main__":
+            parent = names()  # the parent's pool has its thread
+            with multiprocessing.get_context("fork").Pool(1) as p:
+                child = p.apply(names)
+            assert any(n.startswith("lfqt") for n in parent), parent
+            assert any(n.startswith("lfqt") for n in child), child
+            print("ok")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0 and proc.stdout.strip() == "ok", proc.stderr[-2000:]
+
+
 def test_workers_each_raises_only_after_the_items_in_flight_end():
     started, done = [], []
     both = threading.Event()
