@@ -1,6 +1,6 @@
 """Fresh memory for the kernels' large arrays (lent out by lfqt.workspace):
 anonymous private mappings, with or without transparent huge pages, and
-their pages past a prefix given back.
+their pages around a kept range given back.
 
 A huge page (2 MiB) costs one fault where small pages (4 KiB) cost 512, and
 fewer TLB misses afterwards: the divide and conquer runs 7% faster on them
@@ -74,13 +74,14 @@ def mapping_of(a):
     return buf, a.__array_interface__["data"][0] - root.__array_interface__["data"][0]
 
 
-def give_back(buf, start):
-    """Hand the whole pages of mapping ``buf`` from byte ``start`` on back to
-    the system (MADV_DONTNEED: they cost no memory again until written, and
-    read as zeros)."""
+def give_back(buf, start, stop=None):
+    """Hand the whole pages of mapping ``buf`` between bytes ``start`` and
+    ``stop`` (default: its end) back to the system (MADV_DONTNEED: they
+    cost no memory again until written, and read as zeros)."""
     start = -(-start // mmap.PAGESIZE) * mmap.PAGESIZE
-    if hasattr(mmap, "MADV_DONTNEED") and start < len(buf):
-        buf.madvise(mmap.MADV_DONTNEED, start, len(buf) - start)
+    stop = len(buf) if stop is None else stop // mmap.PAGESIZE * mmap.PAGESIZE
+    if hasattr(mmap, "MADV_DONTNEED") and start < stop:
+        buf.madvise(mmap.MADV_DONTNEED, start, stop - start)
 
 
 def host_takes_free_pages(devices=VIRTIO_DEVICES):

@@ -24,9 +24,9 @@ mapping now.  A request that finds none large enough unmaps the idle
 mappings smaller than itself first (a call on other sizes), so that the
 pool never holds memory the call could have used beside what it maps.
 
-A result that keeps only a prefix of its mapping (``keep_prefix``: the
-divide and conquer's neighbours in the first half of T) gives the pages
-past it back late: at the pool's next request, if the result is still
+A result that keeps only a range of its mapping (``keep_range``: the
+divide and conquer's neighbours in about half of T) gives the pages around
+it back late: at the pool's next request, if the result is still
 alive then (so a caller that keeps each result while it asks for the next
 holds no more than before), after IDLE_SECONDS, or at ``release()``; and
 never if the result dies first and its mapping comes back to the pool
@@ -55,7 +55,7 @@ class Pool:
         self.limit = limit
         self.idle_seconds = idle_seconds
         self._idle = []  # [size in bytes, time given back, mmap]
-        self._trims = {}  # id of a lent mmap: (mmap, byte its pages go from, time asked)
+        self._trims = {}  # id of a lent mmap: (mmap, [(from byte, to byte or None)], time asked)
         # reentrant: a finalizer may give a mapping back in the middle of
         # any allocation, this pool's own included (a collection of cycles)
         self._lock = threading.RLock()
@@ -81,19 +81,26 @@ class Pool:
         return base.reshape(shape)
 
     def keep_prefix(self, a, count):
-        """a[:count] (a 1D array); the whole pages past it go back to the
-        system later (the module's last paragraph), where ``a`` lies on a
-        mapping of the pool.  From the call on, nothing may read the
-        mapping past the prefix: its pages turn to zeros at any time."""
+        """keep_range(a, 0, count)."""
+        return self.keep_range(a, 0, count)
+
+    def keep_range(self, a, lo, hi):
+        """a[lo:hi] (a 1D array); the whole pages of ``a`` before it and of
+        the mapping past it go back to the system later (the module's last
+        paragraph), where ``a`` lies on a mapping of the pool.  From the
+        call on, nothing may read those: their pages turn to zeros at any
+        time."""
         found = pages.mapping_of(a)
         if found is not None:
             buf, offset = found
-            start = offset + count * a.itemsize
+            ranges = [(offset + hi * a.itemsize, None)]
+            if lo > 0:
+                ranges.append((offset, offset + lo * a.itemsize))
             with self._lock:
-                self._trims[id(buf)] = (buf, start, time.monotonic())
+                self._trims[id(buf)] = (buf, ranges, time.monotonic())
                 if self._timer is None:
                     self._arm(self.idle_seconds)
-        return a[:count]
+        return a[lo:hi]
 
     def idle_bytes(self):
         with self._lock:
@@ -142,12 +149,13 @@ class Pool:
                 self._arm(max(0.0, min(due) + self.idle_seconds - now))
 
     def _trim(self, age):
-        """Give back the pages asked for by keep_prefix at least ``age``
+        """Give back the pages asked for by keep_range at least ``age``
         seconds ago (under the lock)."""
         now = time.monotonic()
-        for key, (buf, start, asked) in list(self._trims.items()):
+        for key, (buf, ranges, asked) in list(self._trims.items()):
             if now - asked >= age:
-                pages.give_back(buf, start)
+                for start, stop in ranges:
+                    pages.give_back(buf, start, stop)
                 del self._trims[key]
 
     def _after_fork(self):
@@ -195,6 +203,11 @@ def empty(shape, dtype, huge=None):
 def keep_prefix(a, count):
     """POOL.keep_prefix: a result's prefix of a call's array."""
     return POOL.keep_prefix(a, count)
+
+
+def keep_range(a, lo, hi):
+    """POOL.keep_range: a result's range of a call's array."""
+    return POOL.keep_range(a, lo, hi)
 
 
 def release():

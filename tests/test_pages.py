@@ -23,6 +23,17 @@ def test_give_back_keeps_the_pages_before_and_frees_those_after():
         assert after[0] < before[0] / 2  # 4 MB of 24 MB are still in use
 
 
+def test_give_back_up_to_a_stop_frees_only_the_whole_pages_before_it():
+    T = workspace.Pool().empty(6_000_000, np.int32)
+    T[:] = np.arange(len(T), dtype=np.int32)
+    buf, _ = pages.mapping_of(T)
+    pages.give_back(buf, 0, 4_000_012 + 1)  # rounded down to a page: bytes after it are kept
+    assert not T[:1_000_000 - 1024].any()  # read back as zeros
+    assert np.array_equal(T[1_000_003:], np.arange(1_000_003, len(T), dtype=np.int32))
+    pages.give_back(buf, 4096, 4096 + 4095)  # less than a whole page: nothing
+    assert T[1_000_003] == 1_000_003
+
+
 @pytest.mark.parametrize("huge, flag", [(True, "hg"), (False, "nh")])
 def test_large_arrays_get_a_mapping_advised_as_asked(huge, flag):
     a = workspace.Pool().empty((1 << 19, 3), np.int32, huge)  # a fresh mapping

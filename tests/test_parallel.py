@@ -49,6 +49,26 @@ def test_random_small_sets_match_serial(seed, n, threads, with_duplicates):
     assert same_mesh(serial, par)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(2, 3000), st.sampled_from(THREADS),
+       st.booleans())
+def test_output_chunks_meet_without_a_move_and_match_serial(seed, n, threads, with_duplicates):
+    """With output chunks of one 64-slot block at the least, small sets
+    split their output over every thread: the first chunk's rows written
+    downward to meet the second's, the later ones moved behind them."""
+    rng = np.random.default_rng(seed)
+    pts = rng.random((n, 2))
+    if with_duplicates:
+        pts = np.r_[pts, pts[: n // 3]]
+    serial = lfqt.triangulate(pts, threads=1)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(lfqt.dc, "MIN_CHUNK", 64)
+        par = triangulate_verified(pts, threads=threads)
+    assert np.array_equal(serial.simplices, par.simplices)
+    assert np.array_equal(serial.neighbors, par.neighbors)
+    assert same_mesh(serial, par)
+
+
 def test_parallel_sort_sized_sets_of_few_distinct_points():
     # Above 2 * 65536 points the keys are sorted in parallel (lfqt.radix):
     # a set of one point repeated, or of a few repeated many times, leaves

@@ -129,6 +129,19 @@ def test_a_kept_prefix_gives_back_the_rest_at_release_and_at_the_next_request():
         assert not T[1_001_024:].any()
 
 
+def test_a_kept_range_gives_back_the_pages_before_and_after_it():
+    pool = workspace.Pool()
+    T = pool.empty(6_000_000, np.int32)
+    T[:] = np.arange(len(T), dtype=np.int32)
+    kept = pool.keep_range(T, 2_000_000, 3_000_003)
+    whole = _resident_kb(kept)
+    assert whole >= 23_000  # nothing given back yet
+    pool.release()
+    assert _resident_kb(kept) < whole / 2  # 4 MB of 24 MB are still in use
+    assert np.array_equal(kept, np.arange(2_000_000, 3_000_003, dtype=np.int32))
+    assert not T[:2_000_000 - 1024].any() and not T[3_001_024:].any()
+
+
 def test_a_kept_prefix_gives_back_the_rest_after_idle_seconds():
     pool = workspace.Pool(idle_seconds=0.3)
     T, kept = _kept(pool)

@@ -102,8 +102,8 @@ def _memory(n, idx):
                 [ simplices (m, 3) ]                    the output (m < 2n)
 
     The keys are sized for 128-bit keys, the larger.  A result keeps
-    neighbors' pages, T's first half (the second half goes back to the
-    system if the result outlives its call: workspace.keep_prefix), and
+    neighbors' pages, about half of T (the rest goes back to the system if
+    the result outlives its call: workspace.keep_range), and
     simplices', all of ``points``: what the sort writes in parallel lies
     there (slo is written in runs of equal high words only), for pages
     given back fault in again in the next call that reuses the mapping,
@@ -337,14 +337,23 @@ def _output(state, perm, root, workers, points_mem):
         reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
     del gaps, codes
     simplices = workspace.views(points_mem, (3 * m, idx))[0].reshape(m, 3)
-    lengths = workers.map(chunks, lambda c, lo, hi: output.write_rows(T, bits, first, perm,
-                                                                      simplices, lo, hi))
+    # the neighbour rows start at T[head]: the first chunk's end where the
+    # second's begin (output.write_rows_down), and the later chunks' move
+    # down behind them; on one chunk they start at T[0]
+    at = [6 * output.BLOCK * lo for lo, _ in chunks]
+    head = at[1] - 3 * int(first[chunks[1][0]]) if len(chunks) > 1 else 0
+
+    def write(c, lo, hi):
+        if c == 0 and len(chunks) > 1:
+            return output.write_rows_down(T, bits, first, perm, simplices, lo, hi, at[1])
+        return output.write_rows(T, bits, first, perm, simplices, lo, hi)
+    lengths = workers.map(chunks, write)
     if min(lengths, default=0) < 0:
         raise RuntimeError("lfqt internal error: a ghost triangle off the hull ring; please "
                            "report the input")
-    for (lo, _), length in zip(chunks, lengths):  # in chunk order: each over the one before
-        output.move_rows_parallel(T, 6 * output.BLOCK * lo, int(3 * first[lo]), length, workers)
-    return simplices, _rows(T, m, idx), hull, duplicate_of, n_distinct, reason
+    for (lo, _), src, length in list(zip(chunks, at, lengths))[2:]:  # in order, each over the last
+        output.move_rows_parallel(T, src, head + int(3 * first[lo]), length, workers)
+    return simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason
 
 
 def _duplicate_of(gaps, copies, perm, workers, out):
@@ -363,9 +372,9 @@ def _duplicate_of(gaps, copies, perm, workers, out):
     return out, n_distinct
 
 
-def _rows(T, m, idx):
-    """The first 3m entries of T as (m, 3) rows of dtype idx: a view whose
-    memory past it is given back (workspace.keep_prefix), or a copy when T's
-    dtype is wider than idx (more than 2**28 points)."""
-    rows = workspace.keep_prefix(T, 3 * m)
+def _rows(T, head, m, idx):
+    """The 3m entries of T from T[head] as (m, 3) rows of dtype idx: a view
+    whose memory around it is given back (workspace.keep_range), or a copy
+    when T's dtype is wider than idx (more than 2**28 points)."""
+    rows = workspace.keep_range(T, head, head + 3 * m)
     return (rows if T.dtype == idx else rows.astype(idx)).reshape(m, 3)
