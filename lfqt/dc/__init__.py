@@ -145,25 +145,24 @@ def _sorted_points(pts, workers, idx_dtype, slots, points):
     n = pts.shape[0]
     khi, klo, perm, scan = sorted_keys(pts, workers, idx_dtype, (slots, points))
     scale_exp = exponent_for(pts.dtype, *magnitudes(pts, scan, workers))
-    scale = 2.0 ** scale_exp
-    wide = pts.dtype == np.float64
-    gaps = workspace.empty(n, np.uint8)
     P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
-
-    def gaps_and_points(c, lo, hi):  # one parallel step for the two (key_gaps)
-        output.gather_points(pts, perm, scale, P, lo, hi)
-        return subdivide.gap_bits(khi, klo, wide, gaps, lo, hi)
-    copies = any(workers.map(workers.chunks(n), gaps_and_points))
+    gaps, copies = key_gaps(khi, klo, pts.dtype == np.float64, workers, lambda lo, hi: (
+        output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi)))
     return khi, klo, gaps, copies, perm, P, scale_exp
 
 
-def key_gaps(khi, klo, wide, workers):
-    """The uint8 gaps of sorted keys (lfqt.dc.subdivide.gap_bits)."""
+def key_gaps(khi, klo, wide, workers, also=None):
+    """The uint8 gaps of sorted keys (lfqt.dc.subdivide.gap_bits) and
+    whether a key repeats.  ``also(lo, hi)``, if given, runs on each chunk
+    in the same parallel step (one hand-off to the pool for the two)."""
     n = klo.shape[0]
     gaps = workspace.empty(n, np.uint8)
-    workers.map(workers.chunks(n),
-                lambda c, lo, hi: subdivide.gap_bits(khi, klo, wide, gaps, lo, hi))
-    return gaps
+
+    def chunk(c, lo, hi):
+        if also is not None:
+            also(lo, hi)
+        return subdivide.gap_bits(khi, klo, wide, gaps, lo, hi)
+    return gaps, any(workers.map(workers.chunks(n), chunk))
 
 
 def sorted_keys(pts, workers, idx_dtype, scratch=None):
@@ -308,16 +307,17 @@ def _output(state, perm, root, workers, points_mem):
     n = len(perm)
     idx = perm.dtype
     start = int(ghost_out[root[XMIN]]) if len(T) else -1  # a ghost of the hull ring
-    duplicate_of, n_distinct = _duplicate_of(gaps, copies, perm, workers, ghost_out)
+    duplicate_of = ghost_out  # written over it: the ghosts are read no more
+    n_distinct = _first_copies(gaps, perm, workers, duplicate_of) if copies else n
     del ghost_out
     nblocks = -(-(len(T) // 6) // output.BLOCK)
     chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
     bits = np.empty(nblocks, dtype=np.uint64)
     counts = np.empty(nblocks, dtype=np.int64)
 
-    def mark(c, lo, hi):  # with the identity's share of duplicate_of: one step for the two
+    def mark(c, lo, hi):
         output.mark_used(codes, bits, counts, lo, hi)
-        if not copies:
+        if not copies:  # duplicate_of is the identity: each chunk its share, in this step
             iota(duplicate_of, n * c // len(chunks), n * (c + 1) // len(chunks))
     workers.map(chunks, mark)
     if len(T) and root[SMALL] != 1:
@@ -356,20 +356,14 @@ def _output(state, perm, root, workers, points_mem):
     return simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason
 
 
-def _duplicate_of(gaps, copies, perm, workers, out):
-    """(duplicate_of, number of distinct points) in ``out``: each point's
-    first copy (output.duplicates_into), by ranges over ``workers``, or
-    when no key repeats (``copies`` False, the common case) ``out`` as it
-    is, to be the identity (_output writes it: a sequential write instead
-    of a scatter to the input order, 44.5 -> 9.7 ms at 10M on one
-    thread)."""
-    n = len(perm)
-    if not copies:
-        return out, n
-    chunks = workers.chunks(n)
-    n_distinct = int(sum(workers.map(chunks, lambda c, lo, hi: output.duplicates_into(
-        gaps, perm, out, lo, hi))))
-    return out, n_distinct
+def _first_copies(gaps, perm, workers, out):
+    """duplicate_of into ``out`` when some key repeats: each point's first
+    copy (output.duplicates_into), by ranges over ``workers``; returns the
+    number of distinct points.  When none repeats, _output writes the
+    identity instead (a sequential write, not a scatter to the input order:
+    44.5 -> 9.7 ms at 10M on one thread)."""
+    return int(sum(workers.map(workers.chunks(len(perm)), lambda c, lo, hi: (
+        output.duplicates_into(gaps, perm, out, lo, hi)))))
 
 
 def _rows(T, head, m, idx):

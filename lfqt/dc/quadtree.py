@@ -99,7 +99,7 @@ def quadtree(points):
     workers = Workers(1)
     khi, klo, perm, scan = sorted_keys(arr, workers, index_dtype(n))
     magnitudes(arr, scan)  # ValueError for NaN or inf
-    gaps = key_gaps(khi, klo, x.dtype == np.float64, workers)
+    gaps, _ = key_gaps(khi, klo, x.dtype == np.float64, workers)
     ops = np.empty(max(2 * n, 1), dtype=np.int64)
     nops = subdivide.subdivide_lfqt(gaps, 0, n, ops, 0)
     lo, split, hi, bit, parent = _decode(ops, nops, n, gaps)
