@@ -43,8 +43,8 @@ _reporting = None
 def mapping(nbytes, huge=True):
     """A fresh anonymous mapping of ``nbytes`` (an mmap object), advised to
     use transparent huge pages or not to (``huge``), for lfqt.workspace to
-    lend out as arrays, so that the pages past what a result keeps can be
-    given back (``give_back``).  The mapping is private: a shared one (mmap's
+    lend out as arrays, so that the pages around what a result keeps can
+    be given back (``give_back``).  The mapping is private: a shared one (mmap's
     default) is shmem, which gets no transparent huge pages."""
     buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
     advice = getattr(mmap, "MADV_HUGEPAGE" if huge else "MADV_NOHUGEPAGE", None)
