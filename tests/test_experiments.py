@@ -36,6 +36,23 @@ def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
     assert headline.endswith("(" + ", ".join(f"{x:.2f}x" for x in per) + ")")
 
 
+def test_bench_dc_judges_issue_18_targets_per_set_and_size():
+    assert bench_dc.verdict("CGAL", "spiral", 1_000_000, 2.74) == " (target >= 3.0x: missed)"
+    assert bench_dc.verdict("CGAL", "spiral", 1_000_000, 3.0) == " (target >= 3.0x: met)"
+    assert bench_dc.verdict("CGAL", "uniform", 100_000, 2.6) == " (target >= 2.5x: met)"
+    assert bench_dc.verdict("CGAL", "spiral", 100_000, 2.0) == ""  # no target at 100k
+    assert bench_dc.verdict("CGAL", "cluster", 1_000_000, 2.0) == ""  # none on cluster
+    assert bench_dc.verdict("Triangle", "cluster", 1_000_000, 2.9).endswith("missed)")
+    # the figure's dotted lines: one per value, naming every family that has it
+    assert bench_dc._targets_of("spiral", [100_000, 1_000_000]) == {
+        3.0: [("CGAL", "1M"), ("Triangle", "1M")]}
+    assert bench_dc._targets_of("uniform", [100_000, 1_000_000]) == {
+        2.5: [("CGAL", "100k, 1M")], 3.0: [("Triangle", "1M")]}
+    assert bench_dc._targets_of("uniform", [20_000]) == {}
+    assert bench_dc._targets_of("spiral", [1_000_000], ["lfqt-dc", "cgal-dt2-indexed"]) == {
+        3.0: [("CGAL", "1M")]}  # Triangle not measured: no line of its own
+
+
 def test_bench_dc_measures_qhull_at_1m_only_at_paper_scale():
     def qhull_sizes(scale):
         return {c.n for c in bench_dc.grid(scale, 1) if c.peer == "qhull-2d"}
