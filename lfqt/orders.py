@@ -226,7 +226,9 @@ def _sampled_pivot(X, ids, lo, hi, k, axis, off):
     gap = 1.5 * np.sqrt(s)  # three standard deviations of a median's sample rank
     j = np.int64(f * s + gap) if f < 0.5 else np.int64(f * s - gap)
     j = min(max(j, 0), s - 1)
-    _select_short(sample, sample_ids, 0, s, j, 0, off, _rounds_budget(s))
+    # int64 zeros, not literals: literals would compile _select_short again (1 s)
+    zero = np.int64(0)
+    _select_short(sample, sample_ids, zero, s, j, zero, off, _rounds_budget(s))
     return np.int64(sample[j, 1])
 
 

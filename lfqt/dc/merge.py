@@ -478,6 +478,15 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
     return built, 0, tested + oc, ic
 
 
+@njit(cache=True, inline="always")
+def _copy_row(dst, i, src, j):
+    """dst[i] = src[j] for partition rows, entry by entry: a row assignment
+    compiles numba's shape-mismatch error path, 1.6 s of the first call's
+    25.6 s (a cold cache)."""
+    for k in range(PART):
+        dst[i, k] = src[j, k]
+
+
 @njit(cache=True, nogil=True)
 def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     """Execute ops[op_lo:op_hi] (lfqt.dc.subdivide; a merge at split position
@@ -512,7 +521,7 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     top = -1
     for i in range(n_in):
         top += 1
-        parts[top] = parts_in[i]
+        _copy_row(parts, top, parts_in, i)
     for k in range(op_lo, op_hi):
         op = ops[u(k)]
         if op < 0:  # push the single vertex -op - 1
@@ -616,5 +625,5 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     counts[ORIENT] += o_calls
     counts[INCIRCLE] += i_calls
     for i in range(top + 1):
-        parts_out[i] = stack[i]
+        _copy_row(parts_out, i, stack, i)
     return top + 1
