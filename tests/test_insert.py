@@ -1,6 +1,8 @@
 """Incremental insertion in 2D and 3D: every mesh is verified exactly."""
 import copy
 import itertools
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -165,6 +167,26 @@ def test_growth_paths_give_the_same_mesh():
     assert cells(s_small) == cells(s_big)
     assert big[5][CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
     insert_verified(pts, order="input")
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_an_insertion_compiles_only_its_own_dimensions_kernel(d):
+    # _insert_all typed afresh in a child process, whatever the numba cache
+    # holds: the other dimension's range kernel must not be compiled (it
+    # took 11-13 s of a first call with a cold cache)
+    code = f"""
+import numba, numpy as np
+from lfqt.incremental import kernel
+kernel._insert_all = numba.njit(kernel._insert_all.py_func)
+P = np.random.default_rng(0).random((50, {d}))
+ins = kernel.insert_all(P, {d}, np.arange(50), np.full(50, -1), 1.0)
+assert ins.ok
+print(len(kernel._insert_range_2d.signatures), len(kernel._insert_range_3d.signatures))
+"""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.split() == (["1", "0"] if d == 2 else ["0", "1"])
 
 
 def test_kdtree_counts_match_paper_two(rng):
