@@ -175,12 +175,11 @@ def test_an_insertion_compiles_only_its_own_dimensions_kernel(d):
     # holds: the other dimension's range kernel must not be compiled (it
     # took 11-13 s of a first call with a cold cache)
     code = f"""
-import numba, numpy as np
+import numba, numpy as np, lfqt
 from lfqt.incremental import kernel
 kernel._insert_all = numba.njit(kernel._insert_all.py_func)
 P = np.random.default_rng(0).random((50, {d}))
-ins = kernel.insert_all(P, {d}, np.arange(50), np.full(50, -1), 1.0)
-assert ins.ok
+assert lfqt.verify(P, lfqt.insert(P)).ok
 print(len(kernel._insert_range_2d.signatures), len(kernel._insert_range_3d.signatures))
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
