@@ -67,12 +67,8 @@ def _targets_of(dist, ns, peers=None):
             continue
         for value in sorted({v for (d, n), v in targets.items() if d == dist and n in ns}):
             sizes = sorted(n for (d, n), v in targets.items() if d == dist and v == value)
-            out.setdefault(value, []).append((family, ", ".join(map(_short, sizes))))
+            out.setdefault(value, []).append((family, ", ".join(map(results.fmt_count, sizes))))
     return out
-
-
-def _short(n):
-    return f"{n / 1e6:g}M" if n >= 1_000_000 else f"{n / 1e3:g}k"
 
 
 def verdict(family, dist, n, ratio):

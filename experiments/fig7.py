@@ -68,8 +68,7 @@ def plot(df, out):
         ns = np.array([n for n, _, _ in regular])
         ax.bar(np.arange(len(ns)), [r["median"] for _, _, r in regular], color="#1b6ca8",
                label=f"lfqt, {regular[0][1]} threads (this machine)")
-        ax.set_xticks(np.arange(len(ns)), [f"{n / 1e6:g}M" if n >= 1e6 else f"{n / 1e3:g}k"
-                                           for n in ns])
+        ax.set_xticks(np.arange(len(ns)), [results.fmt_count(n) for n in ns])
     ax.set_ylabel("seconds (median)")
     ax.set_title("Uniform, the sizes of Fig. 7", fontsize=9)
     ax.text(0.02, 0.97, "the paper's claims (no values printed):\n" + "\n".join(CLAIMS[:2]),

@@ -116,8 +116,7 @@ def plot(df, out):
             ax = axes[k, col]
             ax.set_ylim(bottom=0)
             ax.xaxis.set_major_locator(MaxNLocator(3))
-            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 1e6:g}M" if v >= 1e6
-                                                       else f"{v / 1e3:g}k"))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: results.fmt_count(v)))
             ax.grid(alpha=0.3)
             if col == 0:
                 ax.set_ylabel(ylabel)

@@ -169,6 +169,11 @@ def fmt_ratio(x):
     return "-" if x != x else f"{x:.2f}x"
 
 
+def fmt_count(n):
+    """A point count as the papers write it: 100k, 1M, 2.5M."""
+    return f"{n / 1e6:g}M" if n >= 1e6 else f"{n / 1e3:g}k"
+
+
 def rate(n, seconds):
     """Million points per second."""
     return n / seconds / 1e6 if seconds else None
