@@ -187,6 +187,20 @@ def test_duplicate_of_is_the_identity_but_for_the_copies(copies, rng):
     assert np.array_equal(tri.duplicate_of, want) and tri.n_distinct == 2000
 
 
+@given(st.integers(0, 2 ** 32 - 1), st.integers(3, 600), st.integers(0, 40),
+       st.sampled_from([1, 2, 3]))
+def test_hull_heavy_sets_with_copies_are_delaunay(seed, n, copies, threads):
+    """Points on a parabola's arc, all on the hull, some repeated: most of
+    the ghosts' and the copies' slots lie among the first m, the holes the
+    output packs the real triangles into (lfqt.dc.output.fill_holes)."""
+    rng = np.random.default_rng(seed)
+    x = rng.random(n)
+    pts = np.c_[x, x * x]
+    pts = np.r_[pts, pts[rng.integers(0, n, copies)]]
+    tri = triangulate_verified(pts, threads=threads)
+    assert tri.n_distinct == len(np.unique(pts, axis=0))
+
+
 @pytest.mark.parametrize("subdivision", SUBDIVISIONS)
 def test_agrees_with_scipy_in_general_position(subdivision, rng):
     pts = rng.random((3000, 2))

@@ -53,7 +53,7 @@ def test_random_small_sets_match_serial(seed, n, threads, with_duplicates):
 @given(st.integers(0, 2 ** 32 - 1), st.integers(2, 3000), st.sampled_from(THREADS),
        st.booleans())
 def test_output_chunks_meet_without_a_move_and_match_serial(seed, n, threads, with_duplicates):
-    """With output chunks of one 64-slot block at the least, small sets
+    """With output chunks of 64 rows at the least, small sets
     split their output over every thread: the first chunk's rows written
     downward to meet the second's, the later ones moved behind them."""
     rng = np.random.default_rng(seed)

@@ -197,7 +197,7 @@ def _state(P, khi, klo, gaps, copies, perm, dtype, scale_exp, level_filter, slot
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
     the sorted keys and points, T and ops in the call's mappings (_memory).
     T is not filled: every slot a merge owns is written by it, and the
-    output tells the others by their split position (output.mark_used).
+    output tells the others by their split position (output.fill_holes).
     The keys in T's memory are read no more once the merges start
     (State.drop_keys)."""
     n = P.shape[0]
@@ -308,51 +308,47 @@ def _output(state, perm, root, workers, points_mem):
     idx = perm.dtype
     start = int(ghost_out[root[XMIN]]) if len(T) else -1  # a ghost of the hull ring
     duplicate_of = ghost_out  # written over it: the ghosts are read no more
-    n_distinct = _first_copies(gaps, perm, workers, duplicate_of) if copies else n
     del ghost_out
-    nblocks = -(-(len(T) // 6) // output.BLOCK)
-    chunks = workers.chunks(nblocks, min_chunk=MIN_CHUNK // output.BLOCK)
-    bits = np.empty(nblocks, dtype=np.uint64)
-    counts = np.empty(nblocks, dtype=np.int64)
-
-    def mark(c, lo, hi):
-        output.mark_used(codes, bits, counts, lo, hi)
-        if not copies:  # duplicate_of is the identity: each chunk its share, in this step
-            iota(duplicate_of, n * c // len(chunks), n * (c + 1) // len(chunks))
-    workers.map(chunks, mark)
-    if len(T) and root[SMALL] != 1:
-        output.clear_ghosts(T, start, bits, counts)
-    first = np.zeros(nblocks + 1, dtype=np.int64)
-    np.cumsum(counts, out=first[1:])
-    m = int(first[-1])
-    reason = ""
-    if m:
+    if copies:
+        n_distinct = _first_copies(gaps, perm, workers, duplicate_of)
+    else:  # duplicate_of is the identity
+        n_distinct = n
+        workers.map(workers.chunks(n), lambda c, lo, hi: iota(duplicate_of, lo, hi))
+    m = 0
+    ring = len(T) and root[SMALL] != 1  # else a lone distinct point, without ghosts
+    if ring:
         hull = output.hull_loop(T, start, perm, perm[:1])
-    elif n == 0:
-        hull, reason = np.empty(0, dtype=idx), "no points"
-    elif root[SMALL] == 1:
-        hull, reason = perm[[root[XMIN]]], "fewer than 3 distinct points"
-    else:
-        hull = perm[[root[XMIN], root[XMAX]]]
-        reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
+        m = 2 * (n_distinct - 1) - len(hull)  # the merges' slots, less the ghosts
+    reason = ""
+    if m == 0:
+        if n == 0:
+            hull, reason = np.empty(0, dtype=idx), "no points"
+        elif not ring:
+            hull, reason = perm[[root[XMIN]]], "fewer than 3 distinct points"
+        else:
+            hull = perm[[root[XMIN], root[XMAX]]]
+            reason = "fewer than 3 distinct points" if n_distinct < 3 else "all points collinear"
+    elif m < 0 or not output.fill_holes(T, codes, start, m, copies):
+        raise RuntimeError("lfqt internal error: the real triangles do not fill the slots; "
+                           "please report the input")
     del gaps, codes
     simplices = workspace.views(points_mem, (3 * m, idx))[0].reshape(m, 3)
     # the neighbour rows start at T[head]: the first chunk's end where the
     # second's begin (output.write_rows_down), and the later chunks' move
     # down behind them; on one chunk they start at T[0]
-    at = [6 * output.BLOCK * lo for lo, _ in chunks]
-    head = at[1] - 3 * int(first[chunks[1][0]]) if len(chunks) > 1 else 0
+    chunks = workers.chunks(m, min_chunk=MIN_CHUNK)
+    head = 3 * chunks[1][0] if len(chunks) > 1 else 0
 
     def write(c, lo, hi):
         if c == 0 and len(chunks) > 1:
-            return output.write_rows_down(T, bits, first, perm, simplices, lo, hi, at[1])
-        return output.write_rows(T, bits, first, perm, simplices, lo, hi)
+            return output.write_rows_down(T, perm, simplices, lo, hi, 6 * hi)
+        return output.write_rows(T, perm, simplices, lo, hi, 6 * lo)
     lengths = workers.map(chunks, write)
     if min(lengths, default=0) < 0:
         raise RuntimeError("lfqt internal error: a ghost triangle off the hull ring; please "
                            "report the input")
-    for (lo, _), src, length in list(zip(chunks, at, lengths))[2:]:  # in order, each over the last
-        output.move_rows_parallel(T, src, head + int(3 * first[lo]), length, workers)
+    for (lo, _), length in list(zip(chunks, lengths))[2:]:  # in order, each over the last
+        output.move_rows_parallel(T, 6 * lo, head + 3 * lo, length, workers)
     return simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason
 
 
