@@ -315,7 +315,7 @@ def _output(state, perm, root, workers, points_mem):
         n_distinct = n
         workers.map(workers.chunks(n), lambda c, lo, hi: iota(duplicate_of, lo, hi))
     m = 0
-    ring = len(T) and root[SMALL] != 1  # else a lone distinct point, without ghosts
+    ring = len(T) > 0 and root[SMALL] != 1  # else a lone distinct point, without ghosts
     if ring:
         hull = output.hull_loop(T, start, perm, perm[:1])
         m = 2 * (n_distinct - 1) - len(hull)  # the merges' slots, less the ghosts

@@ -55,23 +55,26 @@ def gather_points(pts, perm, scale, P, lo, hi):
 
 @njit(cache=True)
 def fill_holes(T, codes, start, m, copies):
-    """Pack the real triangles into the slots [0, m), m of them, in place,
-    after the hull ring through ghost ``start`` has been read (hull_loop):
-    the ghosts and the slots of the duplicates' merges (``codes[p] == DUP``
-    for split position p: slots 2(p-1) and 2(p-1)+1, never written) are
-    the holes, and each real triangle at or above m moves into one; the
-    twins of its edges follow it.  First each real triangle's twin across
-    the hull becomes -1, so that a twin is the neighbour's slot (times 4,
-    plus the edge) or -1::
+    """Pack the m real triangles into the slots [0, m), in place, once the
+    hull ring through ghost ``start`` has been read (hull_loop).  The holes
+    below m are the ring's ghosts and the slots of the duplicates' merges
+    (``codes[p] == DUP`` for split position p: slots 2(p-1) and 2(p-1)+1,
+    never written); each real triangle from m on moves into one, and the
+    twins of its edges follow it::
 
-        T  [ real | ghost | real | dup | real ... | real | ghost | real ]
-                    ^  hole          ^  hole    m    |              |
-                    +-------------------------------)-----------------+
-                                     +---------------+
-    The work is linear in the hull, plus a scan of the codes when a key
-    repeats, never a pass over T.  Returns False
-    when the holes and the real triangles above m do not pair up (never for
-    a mesh of the merges)."""
+                 holes below m                 real triangles from m on
+        T  [ R  G  R  D  R  R  G  R | R  G  R  R  D ]    R real, G ghost,
+                ^     ^        ^    m  |     |  |          D unused (a copy's)
+                |     |        +-------+     |  |
+                |     +----------------------+  |
+                +-------------------------------+
+
+    First each real triangle's twin across the hull becomes -1, so that a
+    twin is then its neighbour's slot (times 4, plus the edge) or -1.  The
+    work is linear in the hull, plus a scan of the codes when a key
+    repeats; never a pass over T.  Returns False when the holes and the
+    real triangles from m on do not pair up (never for a mesh of the
+    merges)."""
     nslots = T.shape[0] // 6
     holes = np.empty(nslots - m, dtype=np.int64)
     k = 0
