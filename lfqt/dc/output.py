@@ -91,19 +91,26 @@ def fill_holes(T, codes, start, m, copies):
             break
     if copies:
         for t in range(m):
-            if codes[u((t >> 1) + 1)] == DUP:
+            if _unused(codes, t):
                 if k == holes.shape[0]:
                     return False
                 holes[k] = t
                 k += 1
     j = 0
     for t in range(m, nslots):
-        if codes[u((t >> 1) + 1)] != DUP and T[slot(t, 2)] != GHOST:  # a real triangle
+        if not _unused(codes, t) and T[slot(t, 2)] != GHOST:  # a real triangle
             if j == k:
                 return False
             _move(T, t, holes[j])
             j += 1
     return j == k
+
+
+@njit(cache=True, inline="always")
+def _unused(codes, t):
+    """Whether slot t is never written: it belongs to the merge at split
+    position t // 2 + 1 (lfqt.dc.layout), and that position repeats a key."""
+    return codes[u((t >> 1) + 1)] == DUP
 
 
 @njit(cache=True, inline="always")
