@@ -7,9 +7,12 @@ import numpy as np
 
 from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
+from .derived import hyperplanes, transforms, vertex_neighbours
 from .incremental import insert
-from .location import locate_brute, locate_rational, locate_walk
+from .location import (TINY_SHIFT, grid_order, locate_brute, locate_rational, locate_tiny,
+                       locate_tolerant, locate_walk, simplex_boxes, tiny_frame_ok)
 from .triangulation import DegenerateInputError
+from .workers import Workers
 
 _ERRORS = {}
 
@@ -125,26 +128,34 @@ class Delaunay:
         self.min_bound = self.points.min(axis=0)
         self.max_bound = self.points.max(axis=0)
         self.paraboloid_scale, self.paraboloid_shift = self._paraboloid()
-        self._scale = 2.0 ** tri.stats["scale_exponent"]
+        self._exponent = int(tri.stats["scale_exponent"])
+        self._scale = 2.0 ** self._exponent
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
         self._cache = {}
 
     def _paraboloid(self):
+        """Qhull's "Qbb" with scipy's "Qz": the lifted coordinates, with the
+        point at infinity's 1.1 times their maximum, are mapped to [0, max
+        |coordinate|] (scipy's formula from qh.last_low, last_high and
+        last_newhigh); 1 and 0 in incremental mode, where scipy drops Qbb."""
         if self._incremental:
             return 1.0, 0.0
         lifted = (self.points ** 2).sum(axis=1)
-        lo, hi = lifted.min(), lifted.max()
+        lo, hi = lifted.min(), lifted.max() * 1.1
         if not hi > lo:
             return 1.0, 0.0
         scale = float(np.abs(self.points).max() / (hi - lo))
         return scale, float(-lo * scale)
 
-    def _location(self):
-        """(rescaled points, simplices, neighbors) in the location kernels'
-        frame and dtype, built on the first find_simplex, not with the mesh."""
-        return self._cached("location", lambda: (self.points * self._scale,
-                                                 self.simplices.astype(np.int64),
-                                                 self.neighbors.astype(np.int64)))
+    def _frame(self):
+        """The points in the location kernels' frame (the triangulation's
+        exact rescale), built on the first find_simplex, not with the mesh."""
+        if self._exponent == 0:
+            return self.points
+        return self._cached("frame", lambda: self.points * self._scale)
+
+    def _workers(self):
+        return Workers(self._options.get("threads") or 1)
 
     def _cached(self, name, build):
         if name not in self._cache:
@@ -206,18 +217,8 @@ class Delaunay:
     @property
     def vertex_neighbor_vertices(self):
         """(indptr, indices): the neighbours of vertex k are
-        ``indices[indptr[k]:indptr[k+1]]``."""
-        def build():
-            s = self.simplices.astype(np.int64)
-            k = s.shape[1]
-            a = np.concatenate([s[:, i] for i in range(k) for j in range(k) if i != j])
-            b = np.concatenate([s[:, j] for i in range(k) for j in range(k) if i != j])
-            key = np.unique(a * self.npoints + b)
-            src, dst = key // self.npoints, key % self.npoints
-            indptr = np.zeros(self.npoints + 1, dtype=np.intc)
-            np.cumsum(np.bincount(src, minlength=self.npoints), out=indptr[1:])
-            return indptr, dst.astype(np.intc)
-        return self._cached("vnv", build)
+        ``indices[indptr[k]:indptr[k+1]]``, in increasing order."""
+        return self._cached("vnv", lambda: vertex_neighbours(self.simplices, self.npoints))
 
     # -- geometry in floating point, as scipy's --------------------------
 
@@ -227,37 +228,15 @@ class Delaunay:
         per simplex (barycentric coordinates); NaN for a simplex too flat
         to invert in floating point (1-norm condition number above
         1/(1000 eps), scipy's limit)."""
-        def build():
-            d = self.ndim
-            X = self.points[self.simplices]
-            r = X[:, -1, :]
-            T = np.transpose(X[:, :-1, :] - r[:, None, :], (0, 2, 1))
-            out = np.full((self.nsimplex, d + 1, d), np.nan)
-            out[:, d, :] = r
-            if self.nsimplex:
-                with np.errstate(all="ignore"):
-                    # scipy's limit: at least three significant digits
-                    ok = np.linalg.cond(T, 1) < 1.0 / (1000 * np.finfo(float).eps)
-                    out[ok, :d, :] = np.linalg.inv(T[ok])
-            return out
-        return self._cached("transform", build)
+        return self._cached("transform", lambda: transforms(self.points, self.simplices))
 
     @property
     def equations(self):
         """(nsimplex, ndim+2): unit normal and offset of each simplex's
         hyperplane in the lifted space, normal pointing down (out of the
         lower hull), as Qhull's."""
-        def build():
-            V = self.lift_points(self.points)[self.simplices]
-            E = V[:, 1:, :] - V[:, :1, :]
-            k = self.ndim + 1
-            normal = np.stack([(-1) ** j * np.linalg.det(np.delete(E, j, axis=2))
-                               for j in range(k)], axis=1)
-            normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-            normal *= -np.sign(normal[:, -1:])
-            offset = -(normal * V[:, 0, :]).sum(axis=1)
-            return np.concatenate((normal, offset[:, None]), axis=1)
-        return self._cached("equations", build)
+        return self._cached("equations", lambda: hyperplanes(
+            self.points, self.simplices, self.paraboloid_scale, self.paraboloid_shift))
 
     def lift_points(self, x):
         """Lift points onto the paraboloid: (..., ndim) -> (..., ndim+1)."""
@@ -282,44 +261,62 @@ class Delaunay:
     def find_simplex(self, xi, bruteforce=False, tol=None):
         """Index of a simplex containing each point of ``xi`` (..., ndim),
         -1 outside the hull or for NaN, as scipy's.  Exact: the answer
-        always contains the query.  ``bruteforce`` tests every simplex
-        instead of walking (same answers).  ``tol`` > 0 widens the answer
-        only: a query outside every simplex gets one whose barycentric
-        coordinates are all >= -tol, as scipy's tolerance does."""
+        always contains the query.  The queries are walked in the order of
+        a space-filling curve, each from the previous answer, on the
+        triangulation's threads.  ``bruteforce`` tests every simplex whose
+        bounding box holds the query instead of walking (an answer on a
+        shared facet may be the other simplex).  ``tol`` > 0 widens the
+        answer only: a query outside every simplex gets one near the hull
+        facets it sees whose barycentric coordinates are all >= -tol, as
+        scipy's tolerance does, or -1."""
         xi = np.asanyarray(xi)
         if xi.shape[-1] != self.ndim:
             raise ValueError("wrong dimensionality in xi")
         shape = xi.shape[:-1]
         q = np.ascontiguousarray(xi.reshape(-1, self.ndim), dtype=np.float64)
         found = np.full(len(q), -1, dtype=np.int64)
+        last = np.zeros(len(q), dtype=np.int64)
         # NaN and points outside the bounding box are outside: no predicate
         inside = ((q >= self.min_bound) & (q <= self.max_bound)).all(axis=1)
-        scaled = q * self._scale
-        # A query the rescale would round, or move below the exactness
-        # window, is located exactly on the original coordinates instead.
         with np.errstate(all="ignore"):
-            representable = ((scaled / self._scale == q)
-                             & ((scaled == 0.0) | (np.abs(scaled) >= self._floor))).all(axis=1)
-        fast = np.flatnonzero(inside & representable)
-        Q = np.ascontiguousarray(scaled[fast])
-        P, S, N = self._location()
-        found[fast] = locate_brute(P, S, Q) if bruteforce else locate_walk(P, S, N, Q, 0)
-        for k in np.flatnonzero(inside & ~representable):
-            found[k] = locate_rational(self.points, S, N, q[k])
+            scaled = q * self._scale
+            tiny = (q != 0.0) & (np.abs(scaled) < self._floor)
+        H = np.where(tiny, 0.0, scaled)  # the part of each query the frame holds exactly
+        rows = np.flatnonzero(inside)
+        P, S, N = self._frame(), self.simplices, self.neighbors
+        Q = np.ascontiguousarray(H[rows])
+        out, at = np.empty(len(rows), dtype=np.int64), np.empty(len(rows), dtype=np.int64)
+        workers = self._workers()
+        chunks = workers.chunks(len(rows), min_chunk=4096)
+        if bruteforce:
+            B = simplex_boxes(P, S)
+            workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
+            at[:] = np.maximum(out, 0)
+        else:
+            order = grid_order(Q)
+            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, order[lo:hi], out, at))
+        found[rows], last[rows] = out, at
+        self._locate_tiny(q, H, tiny, inside, found, last)
         if tol is not None and tol > 0:
+            tr = self.transform
             for k in np.flatnonzero((found < 0) & np.isfinite(q).all(axis=1)):
-                found[k] = self._within_tolerance(q[k], tol)
+                found[k] = locate_tolerant(S, N, tr, q[k], float(tol), last[k])
         return found.astype(np.intc).reshape(shape)
 
-    def _within_tolerance(self, x, tol):
-        """The first simplex whose barycentric coordinates of x are all
-        >= -tol, or -1."""
-        tr = self.transform
-        c = np.einsum("ijk,ik->ij", tr[:, :-1, :], x - tr[:, -1, :])
-        c = np.concatenate((c, 1 - c.sum(axis=1, keepdims=True)), axis=1)
-        with np.errstate(invalid="ignore"):
-            hit = np.flatnonzero((c >= -tol).all(axis=1))
-        return int(hit[0]) if len(hit) else -1
+    def _locate_tiny(self, q, H, tiny, inside, found, last):
+        """Queries with a component below the frame's floor: from where the
+        walk of their in-frame part ended, exactly (lfqt.location)."""
+        rows = np.flatnonzero(inside & tiny.any(axis=1))
+        if len(rows) == 0:
+            return
+        S, N = self.simplices, self.neighbors
+        if not tiny_frame_ok(self._exponent, self.ndim):
+            for k in rows:
+                found[k] = locate_rational(self.points, S, N, q[k])
+            return
+        Ls = np.where(tiny[rows], np.ldexp(q[rows], self._exponent + TINY_SHIFT), 0.0)
+        found[rows] = locate_tiny(self._frame(), S, N, np.ascontiguousarray(H[rows]),
+                                  np.ascontiguousarray(Ls), last[rows])
 
     # -- incremental mode -------------------------------------------------
 

@@ -13,18 +13,43 @@ counter-clockwise in 2D, right-handed in 3D)::
 
 The visibility walk steps through such a facet until there is none; on a
 Delaunay triangulation it terminates in any dimension (Edelsbrunner).  The
-brute force tests every simplex.  Coordinates are in the rescaled frame of
-the triangulation; a query that frame cannot hold exactly is located on the
-original coordinates in rational arithmetic instead (``locate_rational``).
+brute force tests every simplex whose bounding box holds the query.
+
+Coordinates are in the rescaled frame of the triangulation (lfqt._input).  A
+query component too small for that frame (below its floor, 2**-188 in 2D) is
+split off: the query is q = H + L, with H in the frame and L tiny.  An
+orientation with q in slot i is affine in q, (q - a).g for a vertex a and
+the facet's normal g, so its value is E1 + E2 with E1 = (H - a).g, exact in
+the frame, and E2 = L.g, exact once L is scaled up by 2**TINY_SHIFT::
+
+        sign(E1 + E2):  |E1| >> |E2|  ->  sign(E1)
+                        |E2| >> |E1|  ->  sign(E2)
+                        else          ->  sign(E1 * 2**K + E2 * 2**K)
+
+(``_beyond_tiny``).  Only a frame too far from the query's magnitude for
+that shift (data above about 2**300 with subnormal queries) leaves the
+query to ``locate_rational``, in Python's rationals.
+
+``tol`` (scipy's tolerance, in barycentric coordinates and floating point)
+is answered near the hull: a query outside every simplex is walked to a hull
+facet it sees, and the simplices around the vertices of the hull facets it
+sees are its candidates (``locate_tolerant``); no call scans every simplex.
 """
+import math
 from fractions import Fraction
 
 import numpy as np
 from numba import njit
 
 from .predicates.counters import N_PREDICATE, orient2d
+from .predicates.expansion import (cross_exact, exact_diff, expansion_product, expansion_sum,
+                                   scale_expansion)
 from .predicates.planar import CCW_A
 from .predicates.spatial import O3D_A, orient3d_staged
+
+TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in _tiny_frame_ok)
+HULL_FACETS = 64  # hull facets a tolerant query looks at, at most
+STAR = 512        # simplices around one vertex, at most (a 3D star has about 27)
 
 
 @njit(cache=True, inline="always")
@@ -34,7 +59,7 @@ def _vertex(P, v, q, replaced):
     return P[v, 0], P[v, 1], P[v, 2]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _beyond(P, S, t, i, q, cnt):
     """True when q lies strictly beyond the facet of simplex t opposite
     vertex i."""
@@ -50,7 +75,7 @@ def _beyond(P, S, t, i, q, cnt):
     return o < 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _contains(P, S, t, q, cnt):
     for i in range(S.shape[1]):
         if _beyond(P, S, t, i, q, cnt):
@@ -58,26 +83,232 @@ def _contains(P, S, t, q, cnt):
     return True
 
 
-@njit(cache=True)
-def locate_walk(P, S, N, Q, start):
-    """Simplex of each query row of Q by the visibility walk, -1 outside;
-    a walk that exceeds its step budget falls back to the brute force."""
+@njit(cache=True, nogil=True)
+def _walk(P, S, N, q, t, k, cnt):
+    """(simplex of q or -1, the last simplex visited) by the visibility walk
+    from t; -2 when the step budget runs out (the caller falls back)."""
+    k1 = S.shape[1]
+    for _ in range(4 * S.shape[0] + 4):
+        moved = False
+        for j in range(k1):
+            i = (j + k) % k1  # vary the first facet tried, so the walk cannot cycle
+            if _beyond(P, S, t, i, q, cnt):
+                if N[t, i] < 0:
+                    return -1, t
+                t = N[t, i]
+                moved = True
+                break
+        if not moved:
+            return t, t
+    return -2, t
+
+
+@njit(cache=True, nogil=True)
+def locate_walk(P, S, N, Q, order, out, last):
+    """Simplex of each query row of Q by the visibility walk, in the given
+    order of the rows, each walk starting from the previous answer; -1
+    outside.  ``last[k]`` is the last simplex query k's walk visited (where
+    an outside query left the hull).  A walk that exceeds its step budget
+    falls back to the brute force."""
     cnt = np.zeros(N_PREDICATE, dtype=np.int64)
+    t = 0
+    for r in range(order.shape[0]):
+        k = order[r]
+        found, t = _walk(P, S, N, Q[k], t, r, cnt)
+        if found == -2:
+            found = _scan(P, S, Q[k], cnt)
+            t = max(found, 0)
+        out[k] = found
+        last[k] = t
+
+
+def grid_order(Q):
+    """An order of the query rows along the Morton curve of a grid over
+    their bounding box, so that each walk starts near its answer."""
+    if len(Q) < 64:
+        return np.arange(len(Q), dtype=np.int64)
+    return np.argsort(_grid_keys(Q, 16 if Q.shape[1] == 2 else 21),
+                      kind="stable")
+
+
+@njit(cache=True, nogil=True)
+def _grid_keys(Q, bits):
+    """Morton keys of the rows of Q on a 2**bits grid per axis."""
+    n, d = Q.shape
+    lo = np.empty(d)
+    step = np.empty(d)
+    for a in range(d):
+        lo[a] = Q[:, a].min()
+        span = Q[:, a].max() - lo[a]
+        step[a] = (2.0 ** bits - 1.0) / span if span > 0.0 else 0.0
+    keys = np.zeros(n, dtype=np.uint64)
+    for k in range(n):
+        key = np.uint64(0)
+        for a in range(d):
+            cell = np.uint64((Q[k, a] - lo[a]) * step[a])
+            for b in range(bits):
+                key |= ((cell >> np.uint64(b)) & np.uint64(1)) << np.uint64(b * d + a)
+        keys[k] = key
+    return keys
+
+
+@njit(cache=True, nogil=True)
+def _scan(P, S, q, cnt):
+    for s in range(S.shape[0]):
+        if _contains(P, S, s, q, cnt):
+            return s
+    return -1
+
+
+@njit(cache=True, nogil=True)
+def simplex_boxes(P, S):
+    """(m, 2, d) bounding box of every simplex: lower corner, upper corner."""
     m, k1 = S.shape
-    out = np.empty(Q.shape[0], dtype=np.int64)
-    t = start
-    for k in range(Q.shape[0]):
-        q = Q[k]
-        if t < 0:
-            t = start
-        found = -2  # -2: the budget ran out
-        for _ in range(4 * m + 4):
+    d = P.shape[1]
+    B = np.empty((m, 2, d))
+    for t in range(m):
+        for a in range(d):
+            lo = hi = P[S[t, 0], a]
+            for j in range(1, k1):
+                lo = min(lo, P[S[t, j], a])
+                hi = max(hi, P[S[t, j], a])
+            B[t, 0, a] = lo
+            B[t, 1, a] = hi
+    return B
+
+
+@njit(cache=True, nogil=True)
+def locate_brute(P, S, B, Q, lo, hi, out):
+    """Rows lo:hi of Q by testing every simplex whose box (``simplex_boxes``)
+    holds the query, in index order; -1 outside."""
+    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
+    d = P.shape[1]
+    for k in range(lo, hi):
+        out[k] = -1
+        for s in range(S.shape[0]):
+            inside = True
+            for a in range(d):
+                inside &= B[s, 0, a] <= Q[k, a] <= B[s, 1, a]
+            if inside and _contains(P, S, s, Q[k], cnt):
+                out[k] = s
+                break
+
+
+# -- queries below the frame's floor ----------------------------------------
+
+def tiny_frame_ok(scale_exponent, d):
+    """Whether ``_beyond_tiny`` is exact in a frame scaled by
+    2**scale_exponent.  Its products are exact when no bit falls below
+    2**-1074 and none overflows.  The normal g has its lowest bit at or
+    above 2**-240 (2D: differences of frame coordinates, whose ulps are at
+    least 2**MIN_ULP_EXP) or 2**-384 (3D: products of two such), and a tiny
+    component's lowest bit is 2**-1074 at worst in the input, so
+    2**(-1074 + s + K) once scaled: s + K >= 240 (2D) or 384 (3D).  The
+    scaled part stays below 2**(K - 140) and |g| below 2**398, so K = 600
+    cannot overflow."""
+    return scale_exponent + TINY_SHIFT >= (240 if d == 2 else 384)
+
+
+@njit(cache=True)
+def _normal(P, S, t, i):
+    """(g as (d, len) expansions, their lengths, sign, base vertex) of the
+    facet of t opposite i: orientation with q in slot i = sign * (q - base).g."""
+    d = P.shape[1]
+    G = np.zeros((d, 16))
+    glen = np.zeros(d, dtype=np.int64)
+    if d == 2:
+        a, b = S[t, (i + 1) % 3], S[t, (i + 2) % 3]  # orient(a, b, q) = (q - a).(ay - by, bx - ax)
+        _put(G, glen, 0, exact_diff(P[a, 1], P[b, 1]))
+        _put(G, glen, 1, exact_diff(P[b, 0], P[a, 0]))
+        return G, glen, 1.0, a
+    # det[w1 - w0, w2 - w0, w3 - w0] with q in slot i is (-1)**(i + 1) (q - a).((b - a) x (c - a))
+    # for the other vertices a, b, c in slot order: moving q to slot 0 takes i transpositions.
+    a, b, c = S[t, 1 if i == 0 else 0], S[t, 2 if i <= 1 else 1], S[t, 3 if i <= 2 else 2]
+    ux, uxl = exact_diff(P[b, 0], P[a, 0])
+    uy, uyl = exact_diff(P[b, 1], P[a, 1])
+    uz, uzl = exact_diff(P[b, 2], P[a, 2])
+    vx, vxl = exact_diff(P[c, 0], P[a, 0])
+    vy, vyl = exact_diff(P[c, 1], P[a, 1])
+    vz, vzl = exact_diff(P[c, 2], P[a, 2])
+    _put(G, glen, 0, cross_exact(uy, uyl, vz, vzl, uz, uzl, vy, vyl))
+    _put(G, glen, 1, cross_exact(uz, uzl, vx, vxl, ux, uxl, vz, vzl))
+    _put(G, glen, 2, cross_exact(ux, uxl, vy, vyl, uy, uyl, vx, vxl))
+    return G, glen, -1.0 if i % 2 == 0 else 1.0, a
+
+
+@njit(cache=True, inline="always")
+def _put(G, glen, k, expansion):
+    e, n = expansion
+    G[k, :n] = e[:n]
+    glen[k] = n
+
+
+@njit(cache=True)
+def _dot(G, glen, x, base):
+    """sum_k (x_k - base_k) g_k as an expansion (sum_k x_k g_k without a
+    base)."""
+    acc = np.zeros(1)
+    alen = 1
+    for k in range(G.shape[0]):
+        if base is None:
+            term = np.empty(2 * glen[k])
+            tl = scale_expansion(G[k, :glen[k]], glen[k], x[k], term)
+        else:
+            dk, dl = exact_diff(x[k], base[k])
+            term, tl = expansion_product(dk, dl, G[k, :glen[k]], glen[k])
+        out = np.empty(alen + tl)
+        alen = expansion_sum(acc, alen, term, tl, out)
+        acc = out
+    return acc, alen
+
+
+@njit(cache=True)
+def _beyond_tiny(P, S, t, i, H, Ls):
+    """``_beyond`` for q = H + Ls * 2**-TINY_SHIFT (module docstring)."""
+    G, glen, sign, a = _normal(P, S, t, i)
+    e1, n1 = _dot(G, glen, H, P[a])
+    e2, n2 = _dot(G, glen, Ls, None)
+    top1, top2 = e1[n1 - 1], e2[n2 - 1]
+    if top2 == 0.0:
+        return sign * top1 < 0.0
+    if top1 != 0.0:
+        x1 = math.frexp(top1)[1]
+        x2 = math.frexp(top2)[1] - TINY_SHIFT
+        if x1 - 1 > x2 + 1:  # |E1| >= 2**(x1 - 1) (1 - eps) > 2**(x2 + 1) > |E2|
+            return sign * top1 < 0.0
+        if x2 - 1 > x1 + 1:
+            return sign * top2 < 0.0
+    up = e1[:n1] * 2.0 ** TINY_SHIFT  # exact: powers of two, and |E1| is near |E2| here
+    total = np.empty(n1 + n2)
+    n = expansion_sum(up, n1, e2, n2, total)
+    return sign * total[n - 1] < 0.0
+
+
+@njit(cache=True)
+def _contains_tiny(P, S, t, H, Ls):
+    for i in range(S.shape[1]):
+        if _beyond_tiny(P, S, t, i, H, Ls):
+            return False
+    return True
+
+
+@njit(cache=True)
+def locate_tiny(P, S, N, H, Ls, start):
+    """Simplex of each query H[k] + Ls[k] * 2**-TINY_SHIFT, walking from
+    ``start[k]`` (the simplex where H[k]'s own walk ended: a step or two
+    away), -1 outside; brute force past the step budget."""
+    out = np.empty(H.shape[0], dtype=np.int64)
+    k1 = S.shape[1]
+    for k in range(H.shape[0]):
+        t = start[k]
+        found = -2
+        for step in range(4 * S.shape[0] + 4):
             moved = False
             for j in range(k1):
-                i = (j + k) % k1  # vary the first facet tried, so the walk cannot cycle
-                if _beyond(P, S, t, i, q, cnt):
-                    t = N[t, i]
+                i = (j + step) % k1
+                if _beyond_tiny(P, S, t, i, H[k], Ls[k]):
                     moved = True
+                    t = N[t, i]
                     break
             if not moved:
                 found = t
@@ -87,28 +318,146 @@ def locate_walk(P, S, N, Q, start):
                 break
         if found == -2:
             found = -1
-            for s in range(m):
-                if _contains(P, S, s, q, cnt):
+            for s in range(S.shape[0]):
+                if _contains_tiny(P, S, s, H[k], Ls[k]):
                     found = s
                     break
         out[k] = found
-        if found >= 0:
-            t = found
     return out
+
+
+# -- scipy's tolerance, near the hull ----------------------------------------
+
+@njit(cache=True, inline="always")
+def _barycentric_min(Tr, t, x):
+    """(smallest barycentric coordinate of x in simplex t, its vertex);
+    NaN for a simplex too flat for its transform."""
+    d = Tr.shape[2]
+    last = 1.0
+    low, at = np.inf, -1
+    for j in range(d):
+        c = 0.0
+        for a in range(d):
+            c += Tr[t, j, a] * (x[a] - Tr[t, d, a])
+        last -= c
+        if c < low:
+            low, at = c, j
+    if last < low:
+        low, at = last, d
+    if low != low:
+        return np.nan, -1
+    return low, at
+
+
+@njit(cache=True, inline="always")
+def _pivot(S, N, t, i, j):
+    """The hull facet next to hull facet (t, i) across its ridge without
+    vertex S[t, j]: turn about the ridge through the simplices around it
+    until a facet without a neighbour."""
+    for _ in range(S.shape[0] + 1):
+        u = N[t, j]
+        if u < 0:
+            return t, j
+        apex = S[t, i]
+        k = m = -1
+        for r in range(S.shape[1]):
+            if N[u, r] == t:
+                k = r
+            if S[u, r] == apex:
+                m = r
+        t, i, j = u, k, m
+    return -1, -1
 
 
 @njit(cache=True)
-def locate_brute(P, S, Q):
-    """Simplex of each query row of Q by testing every simplex, -1 outside."""
-    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
-    out = np.full(Q.shape[0], -1, dtype=np.int64)
-    for k in range(Q.shape[0]):
-        for s in range(S.shape[0]):
-            if _contains(P, S, s, Q[k], cnt):
-                out[k] = s
-                break
-    return out
+def _star_best(S, N, Tr, t, v, x, seen, nseen, best, best_t):
+    """Best (largest smallest barycentric coordinate of x) over the
+    simplices around vertex v, from t, which holds v."""
+    stack = np.empty(STAR, dtype=np.int64)
+    stack[0] = t
+    top = 1
+    mark = nseen
+    seen[nseen] = t
+    nseen += 1
+    while top > 0:
+        top -= 1
+        s = stack[top]
+        low, _ = _barycentric_min(Tr, s, x)
+        if low > best:
+            best, best_t = low, s
+        for r in range(S.shape[1]):
+            nb = N[s, r]
+            if S[s, r] == v or nb < 0:
+                continue  # the facet opposite v does not hold v
+            known = False
+            for z in range(mark, nseen):
+                known |= seen[z] == nb
+            if not known and nseen < seen.shape[0] and top < STAR:
+                seen[nseen] = nb
+                nseen += 1
+                stack[top] = nb
+                top += 1
+    return best, best_t, nseen
 
+
+@njit(cache=True)
+def locate_tolerant(S, N, Tr, x, tol, t):
+    """Simplex whose barycentric coordinates of x are all >= -tol, or -1,
+    for a query outside every simplex: a float walk from t to the hull, then
+    the stars of the vertices of the hull facets x sees (at most
+    HULL_FACETS), the best of them."""
+    k1 = S.shape[1]
+    for _ in range(4 * S.shape[0] + 4):
+        low, at = _barycentric_min(Tr, t, x)
+        if at < 0:
+            return -1  # a flat simplex: no direction to follow
+        if low >= -tol:
+            return t
+        if N[t, at] < 0:
+            break
+        t = N[t, at]
+    facets = np.empty((HULL_FACETS, 2), dtype=np.int64)
+    facets[0, 0], facets[0, 1] = t, at
+    nf, head = 1, 0
+    best, best_t = -np.inf, -1
+    seen = np.empty(HULL_FACETS * STAR, dtype=np.int64)
+    nseen = 0
+    while head < nf:
+        f, i = facets[head, 0], facets[head, 1]
+        head += 1
+        for j in range(k1):
+            if j == i:
+                continue
+            best, best_t, nseen = _star_best(S, N, Tr, f, S[f, j], x, seen, nseen, best, best_t)
+            g, gi = _pivot(S, N, f, i, j)
+            if g < 0 or nf == HULL_FACETS:
+                continue
+            known = False
+            for z in range(nf):
+                known |= facets[z, 0] == g and facets[z, 1] == gi
+            if not known and _facet_coordinate(Tr, g, gi, x) < 0.0:
+                facets[nf, 0], facets[nf, 1] = g, gi
+                nf += 1
+    return best_t if best >= -tol else -1
+
+
+@njit(cache=True, inline="always")
+def _facet_coordinate(Tr, t, i, x):
+    """Barycentric coordinate of x for vertex i of t (< 0: x sees the
+    facet opposite i)."""
+    d = Tr.shape[2]
+    total = 0.0
+    for j in range(d):
+        c = 0.0
+        for a in range(d):
+            c += Tr[t, j, a] * (x[a] - Tr[t, d, a])
+        if j == i:
+            return c
+        total += c
+    return 1.0 - total
+
+
+# -- the last resort: Python's rationals -------------------------------------
 
 def _det_sign(rows):
     """Sign of the determinant of a small square matrix of Fractions."""
@@ -136,8 +485,8 @@ def _orient(points):
 
 def locate_rational(points, S, N, q):
     """The visibility walk for one query, on the original coordinates in
-    exact rational arithmetic: for the rare query the rescaled frame cannot
-    hold exactly.  Brute force when the walk's budget runs out."""
+    exact rational arithmetic: only for a frame ``tiny_frame_ok`` rejects.
+    Brute force when the walk's budget runs out."""
     q = [Fraction(float(v)) for v in q]
     coords = {}
 
