@@ -27,9 +27,13 @@ For every order but the Kd ones the hint is the point inserted just before.
 by, whatever order inserts them: the Kd-tree's in-order comes free with the
 Kd orders, the Hilbert order with "hilbert", a coarse Hilbert sort otherwise.
 """
+from __future__ import annotations
+
 from collections import namedtuple
+from typing import Literal, get_args
 
 import numpy as np
+import numpy.typing as npt
 from numba import njit
 from numba.cpython.unsafe.numbers import leading_zeros
 
@@ -37,8 +41,15 @@ from ._input import index_dtype
 from .indexing import random_index, range_seed, u
 from .morton import ordered_bits64
 from .radix import radix_sort_range
+from .triangulation import IndexArray
 
-ORDERS = ("kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input")
+OrderName = Literal["kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random",
+                    "input"]
+Hint = Literal["parent", "sibling"]
+ORDERS: tuple[OrderName, ...] = get_args(OrderName)
+Order = tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]  # (perm, hint)
+Layout = tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], IndexArray,
+               npt.NDArray[np.float64]]  # (perm, hint, store, stored): layout
 BRIO_RATIO = {2: 0.25, 3: 0.125}
 BRIO_MIN_ROUND = 64
 
@@ -458,7 +469,8 @@ def _kdtree_inorder(X, ids, alternate, presorted):
             top += 1
 
 
-def kdtree_order(P, alternate, sibling, presorted=PRESORTED):
+def kdtree_order(P: npt.NDArray[np.float64], alternate: bool, sibling: bool,
+                 presorted: int = PRESORTED) -> Layout:
     """(perm, hint, inorder, P[inorder]): the breadth-first labels and
     their hints, the ids as _kdtree_inorder leaves them, the tree's
     in-order: every subtree a contiguous range with its median in the
@@ -680,7 +692,7 @@ def _hilbert_sorted(P, ids, grid=False):
     return ids
 
 
-def sorted_by_key(keys):
+def sorted_by_key(keys: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     """Stable argsort of non-negative int64 keys by radix sort."""
     sorted_keys = keys.view(np.uint64).copy()
     perm = np.arange(len(keys), dtype=np.int64)
@@ -697,12 +709,49 @@ def _previous_as_hint(perm):
     return hint
 
 
-def order(points, name="kdtree", *, hint="parent", seed=0):
-    """(perm, hint) for inserting ``points`` (n, d) in order ``name``."""
+def order(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "parent",
+          seed: int = 0) -> Order:
+    """(perm, hint) for inserting ``points`` (n, d) in order ``name``.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        Read as float64.
+    name : {"kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random", "input"}
+        The order (the module's docstring describes each).
+    hint : {"parent", "sibling"}
+        For the Kd orders: each point's hint is its parent in the Kd-tree,
+        or, for a right child, its left sibling.
+    seed : int
+        For "brio" and "random".
+
+    Returns
+    -------
+    perm : ndarray of int64, shape (n,)
+        ``perm[k]``: the input index inserted k-th.
+    hint : ndarray of int64, shape (n,)
+        ``hint[k]``: the input index of a point inserted before
+        ``perm[k]`` to start locating it from, -1 for none.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lfqt import orders
+    >>> p = np.random.default_rng(0).random((1000, 3))
+    >>> perm, hint = orders.order(p, "kdtree")
+    >>> sorted(perm.tolist()) == list(range(1000))
+    True
+    >>> int(hint[0]), bool(hint[1] == hint[2] == perm[0])  # the root, then its children
+    (-1, True)
+    >>> perm, hint = orders.order(p, "brio", seed=1)
+    >>> np.array_equal(hint[1:], perm[:-1])  # the point inserted just before
+    True
+    """
     return _order(points, name, hint, seed)[:2]
 
 
-def layout(points, name="kdtree", *, hint="parent", seed=0):
+def layout(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "parent",
+           seed: int = 0) -> Layout:
     """(perm, hint, store, stored): ``order``'s pair, ``store``, a
     permutation of the points along space to lay them out in memory by (the
     Kd-tree's in-order, the Hilbert order itself, or a coarse Hilbert sort),
@@ -710,7 +759,26 @@ def layout(points, name="kdtree", *, hint="parent", seed=0):
     orders leave behind for free.  ``store`` is int32 below 2**31 points
     (index_dtype): the output maps every vertex of every cell through it, at
     random, and half the bytes miss the cache half as often (finite_cells at
-    1M 2D: 33 -> 25 ms)."""
+    1M 2D: 33 -> 25 ms).
+
+    Parameters and ``perm``, ``hint``: as ``order``'s.
+
+    Returns
+    -------
+    perm, hint : ndarray of int64, shape (n,)
+    store : ndarray of int32 or int64, shape (n,)
+    stored : ndarray of float64, shape (n, d)
+        ``points[store]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lfqt import orders
+    >>> p = np.random.default_rng(0).random((1000, 2))
+    >>> perm, hint, store, stored = orders.layout(p, "random")
+    >>> store.dtype, np.array_equal(stored, p[store])
+    (dtype('int32'), True)
+    """
     P = np.ascontiguousarray(points, dtype=np.float64)  # once: _order's is then free
     perm, h, store, stored = _order(P, name, hint, seed)
     if store is None:

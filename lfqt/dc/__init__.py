@@ -7,10 +7,14 @@ wrapper ``triangulate`` and its phases, over the kernels of this package.
     parallel    bins and the upper tree's merges (lfqt.dc.bins)
     output      real triangles in input indices (lfqt.dc.output)
 """
+from __future__ import annotations
+
 import os
 import time
+from typing import Any, Literal, get_args
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import morton, radix, workspace
 from .._input import FORMATS, exact_floats2d, exponent_for, index_dtype, magnitudes
@@ -22,15 +26,23 @@ from . import bins, hybrid, output, subdivide
 from .layout import PART, SMALL, XMAX, XMIN, Mesh, t_dtype
 from .state import State
 
-SUBDIVISIONS = ("lfqt", "alternating")
-FILTERS = ("level", "constant")
-SCHEDULES = ("tasks", "levels")
-METHODS = ("dc", "hybrid")
+Subdivision = Literal["lfqt", "alternating"]
+Filter = Literal["level", "constant"]
+Schedule = Literal["tasks", "levels"]
+Method = Literal["dc", "hybrid"]
+LeafOrder = Literal["hilbert", "kdtree"]  # hybrid.ORDERS
+SUBDIVISIONS: tuple[Subdivision, ...] = get_args(Subdivision)
+FILTERS: tuple[Filter, ...] = get_args(Filter)
+SCHEDULES: tuple[Schedule, ...] = get_args(Schedule)
+METHODS: tuple[Method, ...] = get_args(Method)
 LEAF_SIZE = 1024  # keys per bin of the hybrid method (see experiments.hybrid)
 
 
-def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter="level",
-                schedule="tasks", method="dc", leaf_size=None, leaf_order="hilbert"):
+def triangulate(points: npt.ArrayLike, *, threads: int | np.integer[Any] | None = 1,
+                subdivision: Subdivision = "lfqt", counters: bool = True,
+                filter: Filter = "level", schedule: Schedule = "tasks", method: Method = "dc",
+                leaf_size: int | np.integer[Any] | None = None,
+                leaf_order: LeafOrder = "hilbert") -> Triangulation:
     """Exact Delaunay triangulation of 2D points by LFQT divide and conquer.
 
     Parameters
@@ -64,10 +76,46 @@ def triangulate(points, *, threads=1, subdivision="lfqt", counters=True, filter=
         ``leaf_size`` keys (default LEAF_SIZE) in ``leaf_order``
         ("hilbert" or "kdtree"), merged by the divide and conquer above.
         Both give the exact Delaunay triangulation.
+    leaf_size : int, optional
+        Keys per cell of ``method="hybrid"`` (default LEAF_SIZE).
+    leaf_order : {"hilbert", "kdtree"}
+        The insertion order in the cells of ``method="hybrid"``.
 
     Returns
     -------
     Triangulation
+        ``simplices`` (m, 3) counter-clockwise, ``neighbors``, the
+        counter-clockwise ``hull`` loop, ``duplicate_of``, and ``stats``:
+        seconds per phase, thread-seconds per phase of paper 1's Figure 5
+        (``stats["phases"]``), and with ``counters``, the predicate counts.
+        Fewer than 3 distinct points, or all collinear: no simplices, the
+        extreme points in ``hull``, and ``degenerate=True``.
+
+    Raises
+    ------
+    ValueError
+        For an option out of its set, points not of shape (n, 2), NaN or
+        inf, or magnitudes spanning more than 435 binades (lfqt._input).
+    TypeError
+        For points that are not real numbers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import lfqt
+    >>> p = np.random.default_rng(0).random((100, 2))
+    >>> tri = lfqt.triangulate(p)
+    >>> tri.simplices.shape[1]
+    3
+    >>> len(tri.simplices) == 2 * len(p) - 2 - len(tri.hull)  # Euler, on distinct points
+    True
+    >>> bool(lfqt.verify(p, tri).ok)
+    True
+    >>> same = lfqt.triangulate(p, threads=2, schedule="levels")
+    >>> np.array_equal(same.simplices, tri.simplices)
+    True
+    >>> sorted(tri.stats["per_point"])
+    ['incircle_tests', 'orientation_tests']
     """
     for name, value, allowed in (("subdivision", subdivision, SUBDIVISIONS),
                                  ("filter", filter, FILTERS), ("schedule", schedule, SCHEDULES),

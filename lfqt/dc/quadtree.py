@@ -15,9 +15,12 @@ upper child.  Bit j of a coordinate is its sign, an exponent bit or a
 mantissa bit: exponent splits halve the distance to the axis, mantissa
 splits form the regular grids of Fig. 1c.
 """
-from collections import namedtuple
+from __future__ import annotations
+
+from typing import Any, NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 from numba import njit
 
 from .. import morton
@@ -25,13 +28,32 @@ from .._input import FORMATS, exact_floats2d, index_dtype, magnitudes
 from ..workers import Workers
 from . import key_gaps, sorted_keys, subdivide
 
-Quadtree = namedtuple("Quadtree", "order nodes")
-Quadtree.__doc__ = """``order``: the input indices in Morton order.  ``nodes``: dict of
-equal-length arrays, one entry per split, children before parents:
-``level``, ``bit``, ``axis`` (0: x, 1: y), ``field`` ("sign", "exponent" or
-"mantissa"), ``cut``, the cell ``x0, x1, y0, y1`` (±inf where the cell is
-unbounded), ``depth`` (root 0), ``parent`` (-1 at the root), and ``lo``,
-``split``, ``hi``: the node's sorted positions [lo, hi), cut at ``split``."""
+class Quadtree(NamedTuple):
+    """The LFQT of a point set, one row per split (what ``quadtree`` returns).
+
+    Attributes
+    ----------
+    order : ndarray of int64, shape (n,)
+        The input indices in Morton order.
+    nodes : dict of str to ndarray, each of shape (k,)
+        One entry per split, children before parents (k is one fewer than
+        the distinct points; the root is the last):
+
+        * ``bit`` (int64): the key bit the node splits at, and ``level``
+          (int64), its level in the paper, ``bit + 1``;
+        * ``axis`` (int64): 0 for a cut of x, 1 of y;
+        * ``field`` (str, <U8): the bit field the cut falls in, "sign",
+          "exponent" or "mantissa";
+        * ``cut`` (float64): the smallest coordinate of the upper child;
+        * ``x0``, ``x1``, ``y0``, ``y1`` (float64): the node's cell, ±inf
+          where it is unbounded;
+        * ``depth`` (int64): 0 at the root;
+        * ``parent`` (int64): the parent's row, -1 at the root;
+        * ``lo``, ``split``, ``hi`` (int64): the node's positions
+          [lo, hi) in ``order``, cut at ``split``.
+    """
+    order: npt.NDArray[np.int64]
+    nodes: dict[str, npt.NDArray[Any]]
 
 
 @njit(cache=True)
@@ -90,9 +112,50 @@ def _low_mask(count, width):
     return np.where(count > 0, ones >> shift, u.type(0)).astype(u)
 
 
-def quadtree(points):
+def quadtree(points: npt.ArrayLike) -> Quadtree:
     """The LFQT of 2D points (float32 or float64 bits, never rounded), as
-    lfqt's divide and conquer subdivides it; see ``Quadtree``."""
+    lfqt's divide and conquer subdivides it.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        float32, float64 or integers (exact in float64), as for
+        ``triangulate``: float32 input gives 64-bit keys, float64 input
+        128-bit keys.
+
+    Returns
+    -------
+    Quadtree
+        ``order``, the input indices in Morton order, and ``nodes``, one
+        row per split (see ``Quadtree``).
+
+    Raises
+    ------
+    ValueError
+        For points not of shape (n, 2), NaN or inf.
+    TypeError
+        For points that are not real numbers.
+
+    Examples
+    --------
+    The four points of a square: the root cuts x at 0.5 (an exponent bit:
+    0.25 and 0.75 lie in different binades), then each half cuts y.
+
+    >>> import numpy as np
+    >>> import lfqt
+    >>> p = np.array([[0.25, 0.25], [0.75, 0.25], [0.25, 0.75], [0.75, 0.75]])
+    >>> tree = lfqt.quadtree(p)
+    >>> tree.order.tolist()
+    [0, 2, 1, 3]
+    >>> tree.nodes["axis"].tolist(), tree.nodes["cut"].tolist()  # the root last
+    ([1, 1, 0], [0.5, 0.5, 0.5])
+    >>> tree.nodes["field"].tolist(), tree.nodes["parent"].tolist()
+    (['exponent', 'exponent', 'exponent'], [2, 2, -1])
+    >>> tree.nodes["level"].tolist()  # of 128-bit keys; float32's have 64
+    [107, 107, 108]
+    >>> lfqt.quadtree(p.astype(np.float32)).nodes["level"].tolist()
+    [49, 49, 50]
+    """
     arr = exact_floats2d(points)
     x, y = arr[:, 0], arr[:, 1]
     n = x.shape[0]

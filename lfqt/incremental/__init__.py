@@ -1,8 +1,11 @@
 """Incremental Delaunay insertion in 2D and 3D (Liu et al. 2013): the
 validated public wrapper ``insert`` over the kernels of lfqt.incremental.kernel."""
+from __future__ import annotations
+
 import time
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import orders
 from .._input import exact_points, index_dtype
@@ -20,7 +23,10 @@ _CYCLES = {"locate": "locate_cycles", "cavity": "cavity_cycles"}
 MAX_POINTS = (2 ** 31 - 1) // kernel.CELLS_PER_POINT
 
 
-def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=False, seed=0):
+def insert(points: npt.ArrayLike, *,
+           order: orders.OrderName | tuple[npt.ArrayLike, npt.ArrayLike] = "kdtree",
+           hint: orders.Hint | None = None, counters: bool = True, phase_times: bool = False,
+           seed: int = 0) -> Triangulation:
     """Exact Delaunay triangulation of 2D or 3D points by incremental
     insertion (Bowyer–Watson) in a given order (Liu et al. 2013).
 
@@ -50,8 +56,36 @@ def insert(points, *, order="kdtree", hint=None, counters=True, phase_times=Fals
     Returns
     -------
     Triangulation
-        In 3D ``simplices`` are right-handed tetrahedra and ``hull`` the
-        outward (k, 3) hull facets.
+        ``simplices`` (m, 3) counter-clockwise triangles in 2D, (m, 4)
+        right-handed tetrahedra in 3D; ``hull`` the counter-clockwise loop
+        in 2D, the outward (k, 3) hull facets in 3D.  Points of lower
+        dimension: no simplices and ``degenerate=True``.
+
+    Raises
+    ------
+    ValueError
+        For points not of shape (n, 2) or (n, 3), NaN or inf, magnitudes
+        beyond the kernels' window (lfqt._input), an unknown order or hint,
+        an explicit order that is not a permutation with one hint per
+        point, or more than MAX_POINTS points.
+    TypeError
+        For points that are not real numbers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import lfqt
+    >>> p = np.random.default_rng(0).random((100, 3))
+    >>> tri = lfqt.insert(p, order="kdtree")
+    >>> tri.simplices.shape[1], tri.hull.shape[1]
+    (4, 3)
+    >>> bool(lfqt.verify(p, tri).ok)
+    True
+    >>> sorted(tri.stats["per_point"])  # in-sphere tests counted as incircle_tests
+    ['conflicts', 'incircle_tests', 'orientation_tests']
+    >>> rows = lambda t: sorted(sorted(r) for r in t.simplices.tolist())
+    >>> rows(lfqt.insert(p[:, :2], order="hilbert")) == rows(lfqt.triangulate(p[:, :2]))
+    True
     """
     t0 = time.perf_counter()
     P, s, largest = exact_points(points, (2, 3), copy=False)  # P is only read
