@@ -74,7 +74,9 @@ class Delaunay:
         Accepted and ignored, with a warning: an exact triangulation has no
         use for Qhull's joggling, scaling or precision options.
     **options
-        Passed to ``lfqt.triangulate`` (2D) or ``lfqt.insert``.
+        Passed to ``lfqt.triangulate`` (2D) or ``lfqt.insert`` (3D).
+        ``threads`` (default 1) also runs ``find_simplex`` and the derived
+        attributes' kernels on that many threads, in 2D and 3D.
 
     Raises
     ------
@@ -113,8 +115,8 @@ class Delaunay:
         d = arr.shape[1]
         if d == 2:
             tri = triangulate(arr, **self._options)
-        else:
-            tri = insert(arr, **self._options)
+        else:  # insertion is serial: threads serve location and the derived attributes
+            tri = insert(arr, **{k: v for k, v in self._options.items() if k != "threads"})
         if tri.degenerate:
             raise _degenerate_error(f"cannot triangulate: {tri.reason}")
         self._tri = tri
@@ -140,8 +142,9 @@ class Delaunay:
         last_newhigh); 1 and 0 in incremental mode, where scipy drops Qbb."""
         if self._incremental:
             return 1.0, 0.0
-        lifted = (self.points ** 2).sum(axis=1)
-        lo, hi = lifted.min(), lifted.max() * 1.1
+        with np.errstate(over="ignore"):  # |x| near 1e155 and beyond: Qhull's lift overflows too
+            lifted = (self.points ** 2).sum(axis=1)
+            lo, hi = lifted.min(), lifted.max() * 1.1
         if not hi > lo:
             return 1.0, 0.0
         scale = float(np.abs(self.points).max() / (hi - lo))
@@ -228,15 +231,25 @@ class Delaunay:
         per simplex (barycentric coordinates); NaN for a simplex too flat
         to invert in floating point (1-norm condition number above
         1/(1000 eps), scipy's limit)."""
-        return self._cached("transform", lambda: transforms(self.points, self.simplices))
+        return self._cached("transform", lambda: self._per_simplex(
+            (self.ndim + 1, self.ndim), transforms, self.points, self.simplices))
 
     @property
     def equations(self):
         """(nsimplex, ndim+2): unit normal and offset of each simplex's
         hyperplane in the lifted space, normal pointing down (out of the
         lower hull), as Qhull's."""
-        return self._cached("equations", lambda: hyperplanes(
-            self.points, self.simplices, self.paraboloid_scale, self.paraboloid_shift))
+        return self._cached("equations", lambda: self._per_simplex(
+            (self.ndim + 2,), hyperplanes, self.points, self.simplices,
+            float(self.paraboloid_scale), float(self.paraboloid_shift)))
+
+    def _per_simplex(self, shape, kernel, *args):
+        """A (nsimplex, *shape) array filled by ``kernel(*args, out, lo,
+        hi)`` over ranges of simplices, on the triangulation's threads."""
+        out = np.empty((self.nsimplex,) + shape)
+        workers = self._workers()
+        workers.map(workers.chunks(self.nsimplex), lambda c, lo, hi: kernel(*args, out, lo, hi))
+        return out
 
     def lift_points(self, x):
         """Lift points onto the paraboloid: (..., ndim) -> (..., ndim+1)."""
@@ -298,10 +311,28 @@ class Delaunay:
         found[rows], last[rows] = out, at
         self._locate_tiny(q, H, tiny, inside, found, last)
         if tol is not None and tol > 0:
-            tr = self.transform
-            for k in np.flatnonzero((found < 0) & np.isfinite(q).all(axis=1)):
-                found[k] = locate_tolerant(S, N, tr, q[k], float(tol), last[k])
+            self._locate_tolerant(q, float(tol), inside, found, last)
         return found.astype(np.intc).reshape(shape)
+
+    def _locate_tolerant(self, q, tol, inside, found, last):
+        """scipy's tolerance for the queries outside every simplex: -1
+        beyond the bounding box widened by tol (scipy's first test), else
+        the best simplex near the hull facets the query sees.  A query
+        outside the box is first walked, clamped to the box, to the hull."""
+        near = ((q >= self.min_bound - tol) & (q <= self.max_bound + tol)).all(axis=1)
+        rows = np.flatnonzero((found < 0) & near)
+        if len(rows) == 0:
+            return
+        boxed = rows[~inside[rows]]
+        if len(boxed):
+            Q = np.clip(q[boxed], self.min_bound, self.max_bound) * self._scale
+            out, at = np.empty(len(boxed), dtype=np.int64), np.empty(len(boxed), dtype=np.int64)
+            locate_walk(self._frame(), self.simplices, self.neighbors, Q,
+                        np.arange(len(boxed)), out, at)
+            last[boxed] = at
+        tr = self.transform
+        for k in rows:
+            found[k] = locate_tolerant(self.simplices, self.neighbors, tr, q[k], tol, last[k])
 
     def _locate_tiny(self, q, H, tiny, inside, found, last):
         """Queries with a component below the frame's floor: from where the

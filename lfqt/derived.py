@@ -19,10 +19,11 @@ def _inverse(T, d, out, t):
         det = T[0, 0] * T[1, 1] - T[0, 1] * T[1, 0]
         if det == 0.0:
             return False
-        out[t, 0, 0] = T[1, 1] / det
-        out[t, 0, 1] = -T[0, 1] / det
-        out[t, 1, 0] = -T[1, 0] / det
-        out[t, 1, 1] = T[0, 0] / det
+        r = 1.0 / det
+        out[t, 0, 0] = T[1, 1] * r
+        out[t, 0, 1] = -T[0, 1] * r
+        out[t, 1, 0] = -T[1, 0] * r
+        out[t, 1, 1] = T[0, 0] * r
     else:
         c00 = T[1, 1] * T[2, 2] - T[1, 2] * T[2, 1]
         c01 = T[1, 2] * T[2, 0] - T[1, 0] * T[2, 2]
@@ -30,15 +31,16 @@ def _inverse(T, d, out, t):
         det = T[0, 0] * c00 + T[0, 1] * c01 + T[0, 2] * c02
         if det == 0.0:
             return False
-        out[t, 0, 0] = c00 / det
-        out[t, 1, 0] = c01 / det
-        out[t, 2, 0] = c02 / det
-        out[t, 0, 1] = (T[0, 2] * T[2, 1] - T[0, 1] * T[2, 2]) / det
-        out[t, 1, 1] = (T[0, 0] * T[2, 2] - T[0, 2] * T[2, 0]) / det
-        out[t, 2, 1] = (T[0, 1] * T[2, 0] - T[0, 0] * T[2, 1]) / det
-        out[t, 0, 2] = (T[0, 1] * T[1, 2] - T[0, 2] * T[1, 1]) / det
-        out[t, 1, 2] = (T[0, 2] * T[1, 0] - T[0, 0] * T[1, 2]) / det
-        out[t, 2, 2] = (T[0, 0] * T[1, 1] - T[0, 1] * T[1, 0]) / det
+        r = 1.0 / det
+        out[t, 0, 0] = c00 * r
+        out[t, 1, 0] = c01 * r
+        out[t, 2, 0] = c02 * r
+        out[t, 0, 1] = (T[0, 2] * T[2, 1] - T[0, 1] * T[2, 2]) * r
+        out[t, 1, 1] = (T[0, 0] * T[2, 2] - T[0, 2] * T[2, 0]) * r
+        out[t, 2, 1] = (T[0, 1] * T[2, 0] - T[0, 0] * T[2, 1]) * r
+        out[t, 0, 2] = (T[0, 1] * T[1, 2] - T[0, 2] * T[1, 1]) * r
+        out[t, 1, 2] = (T[0, 2] * T[1, 0] - T[0, 0] * T[1, 2]) * r
+        out[t, 2, 2] = (T[0, 0] * T[1, 1] - T[0, 1] * T[1, 0]) * r
     norm, inv_norm = 0.0, 0.0
     for j in range(d):
         col, inv_col = 0.0, 0.0
@@ -51,15 +53,13 @@ def _inverse(T, d, out, t):
 
 
 @njit(cache=True, nogil=True)
-def transforms(P, S):
-    """(m, d+1, d): rows :d hold T^-1 and row d holds r, for T c = x - r
-    with T's columns x_j - r and r the simplex's last vertex (scipy's
-    ``transform``); NaN in T^-1 where T is too ill-conditioned."""
-    m, k1 = S.shape
-    d = k1 - 1
-    out = np.empty((m, k1, d))
+def transforms(P, S, out, lo, hi):
+    """out[lo:hi] of (m, d+1, d): rows :d hold T^-1 and row d holds r, for
+    T c = x - r with T's columns x_j - r and r the simplex's last vertex
+    (scipy's ``transform``); NaN in T^-1 where T is too ill-conditioned."""
+    d = S.shape[1] - 1
     T = np.empty((d, d))
-    for t in range(m):
+    for t in range(lo, hi):
         r = S[t, d]
         for a in range(d):
             out[t, d, a] = P[r, a]
@@ -71,84 +71,106 @@ def transforms(P, S):
             for i in range(d):
                 for a in range(d):
                     out[t, i, a] = np.nan
-    return out
+
+
+@njit(cache=True, inline="always")
+def _lift(P, v, scale, shift):
+    x, y = P[v, 0], P[v, 1]
+    if P.shape[1] == 2:
+        return x, y, 0.0, (x * x + y * y) * scale + shift
+    z = P[v, 2]
+    return x, y, z, (x * x + y * y + z * z) * scale + shift
 
 
 @njit(cache=True, nogil=True)
-def hyperplanes(P, S, scale, shift):
-    """(m, d+2): unit normal and offset of each simplex's plane through its
-    lifted vertices (x, |x|^2 * scale + shift), the normal pointing down
-    (last component < 0), as Qhull's ``equations``."""
-    m, k1 = S.shape
-    d = k1 - 1
-    out = np.empty((m, d + 2))
-    V = np.empty((k1, k1))
-    E = np.empty((d, k1))
-    n = np.empty(k1)
-    for t in range(m):
-        for j in range(k1):
-            lift = 0.0
-            for a in range(d):
-                V[j, a] = P[S[t, j], a]
-                lift += V[j, a] * V[j, a]
-            V[j, d] = lift * scale + shift
-        for j in range(d):
-            for a in range(k1):
-                E[j, a] = V[j + 1, a] - V[0, a]
-        if d == 2:  # the cross product of the two edges in 3D
-            n[0] = E[0, 1] * E[1, 2] - E[0, 2] * E[1, 1]
-            n[1] = E[0, 2] * E[1, 0] - E[0, 0] * E[1, 2]
-            n[2] = E[0, 0] * E[1, 1] - E[0, 1] * E[1, 0]
+def hyperplanes(P, S, scale, shift, out, lo, hi):
+    """out[lo:hi] of (m, d+2): unit normal and offset of each simplex's
+    plane through its lifted vertices (x, |x|^2 * scale + shift), the normal
+    pointing down (last component < 0), as Qhull's ``equations``."""
+    d = S.shape[1] - 1
+    for t in range(lo, hi):
+        ax, ay, az, aw = _lift(P, S[t, 0], scale, shift)
+        bx, by, bz, bw = _lift(P, S[t, 1], scale, shift)
+        cx, cy, cz, cw = _lift(P, S[t, 2], scale, shift)
+        ux, uy, uz, uw = bx - ax, by - ay, bz - az, bw - aw
+        vx, vy, vz, vw = cx - ax, cy - ay, cz - az, cw - aw
+        if d == 2:  # the cross product of the two edges in (x, y, lift)
+            n0 = uy * vw - uw * vy
+            n1 = uw * vx - ux * vw
+            n2 = ux * vy - uy * vx
+            n3 = 0.0
+            norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+            last = n2
         else:  # the generalised cross product of three edges in 4D: signed 3x3 minors
-            for c in range(4):
-                c0, c1, c2 = 1 if c == 0 else 0, 2 if c <= 1 else 1, 3 if c <= 2 else 2
-                minor = (E[0, c0] * (E[1, c1] * E[2, c2] - E[1, c2] * E[2, c1])
-                         - E[0, c1] * (E[1, c0] * E[2, c2] - E[1, c2] * E[2, c0])
-                         + E[0, c2] * (E[1, c0] * E[2, c1] - E[1, c1] * E[2, c0]))
-                n[c] = minor if c % 2 == 0 else -minor
-        norm = 0.0
-        for a in range(k1):
-            norm += n[a] * n[a]
-        norm = np.sqrt(norm)
-        if n[d] > 0.0:
+            dx, dy, dz, dw = _lift(P, S[t, 3], scale, shift)
+            wx, wy, wz, ww = dx - ax, dy - ay, dz - az, dw - aw
+            n0 = uy * (vz * ww - vw * wz) - uz * (vy * ww - vw * wy) + uw * (vy * wz - vz * wy)
+            n1 = -(ux * (vz * ww - vw * wz) - uz * (vx * ww - vw * wx) + uw * (vx * wz - vz * wx))
+            n2 = ux * (vy * ww - vw * wy) - uy * (vx * ww - vw * wx) + uw * (vx * wy - vy * wx)
+            n3 = -(ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx))
+            norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
+            last = n3
+        if last > 0.0:
             norm = -norm
-        offset = 0.0
-        for a in range(k1):
-            out[t, a] = n[a] / norm
-            offset -= out[t, a] * V[0, a]
-        out[t, k1] = offset
-    return out
+        n0, n1, n2, n3 = n0 / norm, n1 / norm, n2 / norm, n3 / norm
+        out[t, 0] = n0
+        out[t, 1] = n1
+        out[t, 2] = n2
+        if d == 2:
+            out[t, 3] = -(n0 * ax + n1 * ay + n2 * aw)
+        else:
+            out[t, 3] = n3
+            out[t, 4] = -(n0 * ax + n1 * ay + n2 * az + n3 * aw)
 
 
 @njit(cache=True, nogil=True)
 def vertex_neighbours(S, n):
     """(indptr, indices): the sorted neighbours of vertex v are
     indices[indptr[v]:indptr[v+1]] (scipy's ``vertex_neighbor_vertices``).
-    Each vertex first gets every (simplex, other vertex) pair, then its
-    short list is sorted and its repeats dropped in place."""
+    From the simplices around each vertex (a counting sort of the
+    simplices' vertices), each neighbour once by a stamp per vertex, then
+    the short list sorted in place."""
     m, k1 = S.shape
-    start = np.zeros(n + 1, dtype=np.int64)
+    first = np.zeros(n + 1, dtype=np.int64)
     for t in range(m):
         for j in range(k1):
-            start[S[t, j] + 1] += k1 - 1
+            first[S[t, j] + 1] += 1
     for v in range(n):
-        start[v + 1] += start[v]
-    fill = start[:n].copy()
-    pairs = np.empty(start[n], dtype=np.int32)
+        first[v + 1] += first[v]
+    fill = first[:n].copy()
+    around = np.empty(first[n], dtype=np.int32)
     for t in range(m):
         for j in range(k1):
             v = S[t, j]
-            for i in range(k1):
-                if i != j:
-                    pairs[fill[v]] = S[t, i]
-                    fill[v] += 1
+            around[fill[v]] = t
+            fill[v] += 1
+    stamp = np.full(n, -1, dtype=np.int32)
     indptr = np.zeros(n + 1, dtype=np.int32)
-    w = 0
-    for v in range(n):
-        seg = np.sort(pairs[start[v]:start[v + 1]])
-        for k in range(seg.shape[0]):
-            if k == 0 or seg[k] != seg[k - 1]:
-                pairs[w] = seg[k]
-                w += 1
-        indptr[v + 1] = w
-    return indptr, pairs[:w].copy()
+    for v in range(n):  # count
+        c = 0
+        for z in range(first[v], first[v + 1]):
+            t = around[z]
+            for j in range(k1):
+                w = S[t, j]
+                if w != v and stamp[w] != v:
+                    stamp[w] = v
+                    c += 1
+        indptr[v + 1] = indptr[v] + c
+    indices = np.empty(indptr[n], dtype=np.int32)
+    stamp[:] = -1
+    for v in range(n):  # write, then insertion-sort the few
+        lo = indptr[v]
+        c = lo
+        for z in range(first[v], first[v + 1]):
+            t = around[z]
+            for j in range(k1):
+                w = S[t, j]
+                if w != v and stamp[w] != v:
+                    stamp[w] = v
+                    k = c
+                    while k > lo and indices[k - 1] > w:
+                        indices[k] = indices[k - 1]
+                        k -= 1
+                    indices[k] = w
+                    c += 1
+    return indptr, indices

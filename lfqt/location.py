@@ -50,6 +50,7 @@ from .predicates.spatial import O3D_A, orient3d_staged
 TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in _tiny_frame_ok)
 HULL_FACETS = 64  # hull facets a tolerant query looks at, at most
 STAR = 512        # simplices around one vertex, at most (a 3D star has about 27)
+SEEN = 4096       # simplices a tolerant query evaluates, at most
 
 
 @njit(cache=True, inline="always")
@@ -162,35 +163,53 @@ def _scan(P, S, q, cnt):
 
 @njit(cache=True, nogil=True)
 def simplex_boxes(P, S):
-    """(m, 2, d) bounding box of every simplex: lower corner, upper corner."""
+    """(2d, m) bounding boxes of the simplices, a row per bound (x low, x
+    high, y low, ...), so that the brute force reads each bound in a run."""
     m, k1 = S.shape
     d = P.shape[1]
-    B = np.empty((m, 2, d))
+    B = np.empty((2 * d, m))
     for t in range(m):
         for a in range(d):
             lo = hi = P[S[t, 0], a]
             for j in range(1, k1):
                 lo = min(lo, P[S[t, j], a])
                 hi = max(hi, P[S[t, j], a])
-            B[t, 0, a] = lo
-            B[t, 1, a] = hi
+            B[2 * a, t] = lo
+            B[2 * a + 1, t] = hi
     return B
+
+
+BLOCK = 256  # simplices whose boxes the brute force tests branch-free before a predicate
 
 
 @njit(cache=True, nogil=True)
 def locate_brute(P, S, B, Q, lo, hi, out):
     """Rows lo:hi of Q by testing every simplex whose box (``simplex_boxes``)
-    holds the query, in index order; -1 outside."""
+    holds the query, in index order; -1 outside.  The boxes of a block are
+    tested without a branch (the loop vectorises), the predicates run only
+    on the hits."""
     cnt = np.zeros(N_PREDICATE, dtype=np.int64)
+    m = S.shape[0]
     d = P.shape[1]
+    hit = np.empty(BLOCK, dtype=np.bool_)
     for k in range(lo, hi):
         out[k] = -1
-        for s in range(S.shape[0]):
-            inside = True
-            for a in range(d):
-                inside &= B[s, 0, a] <= Q[k, a] <= B[s, 1, a]
-            if inside and _contains(P, S, s, Q[k], cnt):
-                out[k] = s
+        qx, qy, qz = Q[k, 0], Q[k, 1], Q[k, d - 1]
+        for s0 in range(0, m, BLOCK):
+            s1 = min(s0 + BLOCK, m)
+            some = False
+            for s in range(s0, s1):
+                h = (B[0, s] <= qx) & (qx <= B[1, s]) & (B[2, s] <= qy) & (qy <= B[3, s])
+                if d == 3:
+                    h &= (B[4, s] <= qz) & (qz <= B[5, s])
+                hit[s - s0] = h
+                some |= h
+            if some:
+                for s in range(s0, s1):
+                    if hit[s - s0] and _contains(P, S, s, Q[k], cnt):
+                        out[k] = s
+                        break
+            if out[k] >= 0:
                 break
 
 
@@ -420,7 +439,7 @@ def locate_tolerant(S, N, Tr, x, tol, t):
     facets[0, 0], facets[0, 1] = t, at
     nf, head = 1, 0
     best, best_t = -np.inf, -1
-    seen = np.empty(HULL_FACETS * STAR, dtype=np.int64)
+    seen = np.empty(SEEN, dtype=np.int64)
     nseen = 0
     while head < nf:
         f, i = facets[head, 0], facets[head, 1]

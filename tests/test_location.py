@@ -1,0 +1,164 @@
+"""lfqt.location through lfqt.Delaunay.find_simplex: every answer contains its
+query by exact rational arithmetic, whatever the path (walk, brute force,
+threads, queries below the frame's floor), and scipy's tolerance is answered
+near the hull without a scan."""
+from fractions import Fraction as F
+
+import numpy as np
+import pytest
+import scipy.spatial
+from hypothesis import given, settings, strategies as st
+
+import lfqt
+from lfqt import location
+from lfqt.location import _orient
+
+
+def _built(points, **kwargs):
+    d = lfqt.Delaunay(points, **kwargs)
+    report = lfqt.verify(points, d.triangulation)
+    assert report.ok, report.problems[:3]
+    return d
+
+
+def _contains(pts, simplex, q):
+    verts = [[F(float(c)) for c in pts[v]] for v in simplex]
+    qf = [F(float(c)) for c in q]
+    return all(_orient(verts[:i] + [qf] + verts[i + 1:]) >= 0 for i in range(len(verts)))
+
+
+def _inside_hull(pts, d, q):
+    """Exactly: does q lie in some simplex (the hull, closed)?"""
+    return any(_contains(pts, s, q) for s in d.simplices)
+
+
+def _check(pts, d, qs, found):
+    for t, q in zip(found, qs):
+        if t >= 0:
+            assert _contains(pts, d.simplices[t], q), (t, q)
+        else:
+            assert not _inside_hull(pts, d, q), q
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_walk_brute_force_and_threads_answer_exactly(dim, threads, rng):
+    pts = np.r_[rng.random((300, dim)), np.eye(dim)]
+    d = _built(pts, threads=threads)
+    qs = np.r_[rng.random((400, dim)) * 1.2 - 0.1, pts[::7], (pts[:40] + pts[1:41]) / 2]
+    walk = d.find_simplex(qs)
+    brute = d.find_simplex(qs, bruteforce=True)
+    _check(pts, d, qs, walk)
+    _check(pts, d, qs, brute)
+    assert np.array_equal(walk < 0, brute < 0)
+
+
+def test_many_queries_on_two_threads_match_one_thread(rng):
+    """Large query sets are split over the threads (chunks of 4096 sorted
+    queries); a query strictly inside a simplex has one answer."""
+    pts = rng.random((5000, 2))
+    q = rng.random((20000, 2))
+    one, two = _built(pts, threads=1), _built(pts, threads=2)
+    assert np.array_equal(one.simplices, two.simplices)
+    assert np.array_equal(one.find_simplex(q), two.find_simplex(q))
+
+
+@st.composite
+def _tiny_cases(draw):
+    """A small mesh with edges along and near the axes, and queries whose
+    components lie far below the frame's floor: on an edge, or a hair off
+    it, so that the in-frame part and the tiny part compete."""
+    dim = draw(st.sampled_from([2, 3]))
+    k = draw(st.integers(8, 30))
+    seed = draw(st.integers(0, 2 ** 32 - 1))
+    rng = np.random.default_rng(seed)
+    pts = rng.integers(-4, 5, (k, dim)).astype(float)
+    slant = 2.0 ** -draw(st.integers(150, 200))  # an edge at slope 2**-e, near the floor
+    pts = np.r_[pts, np.eye(dim), -np.eye(dim), [np.r_[1.0, np.full(dim - 1, slant)]],
+                np.zeros((1, dim))]
+    exps = draw(st.lists(st.integers(-1074, -150), min_size=dim, max_size=dim))
+    signs = draw(st.lists(st.sampled_from([-1.0, 0.0, 1.0]), min_size=dim, max_size=dim))
+    q = np.array([s * 2.0 ** e for s, e in zip(signs, exps)])
+    base = draw(st.sampled_from(["origin", "edge", "slant"]))
+    if base == "edge":
+        q[0] += 0.5
+    elif base == "slant":
+        q[0] += 0.5
+        q[1:] += 0.5 * slant * draw(st.sampled_from([0.5, 1.0, 2.0]))
+    return pts, q
+
+
+@given(_tiny_cases())
+@settings(max_examples=60, deadline=None)
+def test_queries_below_the_floor_are_located_exactly(case):
+    pts, q = case
+    d = _built(pts)
+    t = d.find_simplex(q[None, :])[0]
+    _check(pts, d, [q], [t])
+
+
+def test_tiny_queries_stay_in_the_kernels_and_big_frames_fall_back(monkeypatch, rng):
+    """No rational arithmetic on the common tiny query; a frame scaled down
+    too far for the shift (data near 1e300) still answers exactly, in
+    rationals."""
+    calls = []
+    real = location.locate_rational
+    monkeypatch.setattr("lfqt.delaunay.locate_rational",
+                        lambda *a: calls.append(1) or real(*a))
+    unit = np.r_[rng.random((200, 2)), [[0.0, 0.0], [1, 0], [0, 1], [1, 1]]]
+    qs = np.array([[1e-60, 0.5], [0.5, 1e-300], [1e-320, 1e-320], [0.25, -1e-310]])
+    d = _built(unit)
+    _check(unit, d, qs, d.find_simplex(qs))
+    assert not calls
+    huge = np.r_[rng.uniform(-1e300, 1e300, (100, 2)), [[0.0, 0.0]]]
+    d = _built(huge)
+    assert not location.tiny_frame_ok(d._exponent, 2)
+    qs = 1e-300 * rng.standard_normal((3, 2))
+    _check(huge, d, qs, d.find_simplex(qs))
+    assert len(calls) == 3
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_tolerance_near_the_hull_matches_a_full_scan(dim, rng):
+    """Just outside the hull, the search near the facets the query sees
+    finds a simplex within tol wherever a scan of every simplex does, and
+    the one it returns is within tol; far outside, -1."""
+    pts = rng.random((400, dim))
+    d = _built(pts)
+    hull = scipy.spatial.ConvexHull(pts)
+    normals = hull.equations[:, :-1]  # outward
+    # points on hull facets pushed out along the facet normal
+    centers = pts[hull.simplices].mean(axis=1)[:60]
+    qs = centers + 1e-11 * normals[:60]
+    tol = 1e-6
+    found = d.find_simplex(qs, tol=tol)
+    tr = d.transform
+    for t, q in zip(found, qs):
+        c = np.einsum("ijk,ik->ij", tr[:, :-1, :], q - tr[:, -1, :])
+        c = np.c_[c, 1 - c.sum(axis=1)]
+        some = ((c >= -tol).all(axis=1)).any()
+        assert (t >= 0) == some
+        if t >= 0:
+            assert (c[t] >= -tol).all()
+    far = centers[:5] + 1.0 * normals[:5]
+    assert (d.find_simplex(far, tol=tol) == -1).all()
+
+
+def test_tolerance_never_scans_every_simplex(rng):
+    """The tolerant search evaluates at most SEEN simplices per query; on a
+    mesh of many more it still finds a simplex within tol exactly where a
+    scan of every simplex finds one (a sliver on the hull may have none)."""
+    pts = rng.random((20000, 2))
+    d = _built(pts)
+    assert d.nsimplex > 4 * location.SEEN
+    hull = scipy.spatial.ConvexHull(pts)
+    q = pts[hull.simplices].mean(axis=1) + 1e-12 * hull.equations[:, :-1]
+    found = d.find_simplex(q, tol=1e-6)
+    tr = d.transform
+    for t, x in zip(found, q):
+        c = np.einsum("ijk,ik->ij", tr[:, :-1, :], x - tr[:, -1, :])
+        within = (np.c_[c, 1 - c.sum(axis=1)] >= -1e-6).all(axis=1)
+        assert (t >= 0) == within.any()
+        assert t < 0 or within[t]
+    assert (found >= 0).sum() > len(q) // 2
+    assert (d.find_simplex(q) == -1).all()
