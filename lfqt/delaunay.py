@@ -1,9 +1,13 @@
 """``Delaunay``: the interface of scipy.spatial.Delaunay in 2D and 3D over
 lfqt's exact triangulations (the LFQT divide and conquer in 2D, incremental
 insertion in 3D), with exact point location (lfqt.location)."""
+from __future__ import annotations
+
 import warnings
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
@@ -11,7 +15,7 @@ from .derived import hyperplanes, transforms, vertex_neighbours
 from .incremental import insert
 from .location import (TINY_SHIFT, grid_order, locate_brute, locate_rational, locate_tiny,
                        locate_tolerant, locate_walk, simplex_boxes, tiny_frame_ok)
-from .triangulation import DegenerateInputError
+from .triangulation import DegenerateInputError, Triangulation
 from .workers import Workers
 
 _ERRORS = {}
@@ -86,17 +90,80 @@ class Delaunay:
     ValueError
         Masked, NaN or inf input, or not (n, 2) or (n, 3).
 
+    Attributes
+    ----------
+    points : ndarray of float64, shape (npoints, ndim)
+        The input points.
+    simplices : ndarray of intc, shape (nsimplex, ndim+1)
+        Indices of the points forming each simplex: counter-clockwise
+        triangles in 2D, right-handed tetrahedra in 3D.
+    neighbors : ndarray of intc, shape (nsimplex, ndim+1)
+        Neighbour k of a simplex is opposite its vertex k; -1 on the hull.
+    equations : ndarray of float64, shape (nsimplex, ndim+2)
+        Unit normal and offset of each simplex's plane on the lifted
+        paraboloid, normal pointing down, as Qhull's (computed on first
+        access).
+    transform : ndarray of float64, shape (nsimplex, ndim+1, ndim)
+        Affine transform to barycentric coordinates: ``c = T[:ndim] @ (x -
+        T[ndim])`` gives the first ndim coordinates (NaN rows for a simplex
+        too flat to invert in floating point, as scipy's).
+    vertex_to_simplex : ndarray of intc, shape (npoints,)
+        A simplex holding each vertex; a duplicate row maps to its twin's.
+    vertex_neighbor_vertices : tuple of two ndarrays of intc
+        ``(indptr, indices)``: the neighbours of vertex k are
+        ``indices[indptr[k]:indptr[k+1]]``, in increasing order.
+    convex_hull : ndarray of intc, shape (nfaces, ndim)
+        The hull's edges (2D) or triangles (3D).
+    coplanar : ndarray of intc, shape (ncoplanar, 3)
+        Duplicate rows that are not vertices: (row, simplex holding its
+        twin, the twin).
+    ndim, npoints, nsimplex : int
+    min_bound, max_bound : ndarray of float64, shape (ndim,)
+        The points' bounding box.
+    paraboloid_scale, paraboloid_shift : float
+        The lift ``|x|^2 * scale + shift``: Qhull's "Qbb" with scipy's "Qz"
+        (the lifted range, its top widened by 1.1 for the point at
+        infinity, mapped onto [0, max |coordinate|]), equal to scipy's; 1
+        and 0 in incremental mode, as scipy's.
+    good : ndarray of intc, shape (nsimplex,)
+        All ones: every simplex is a Delaunay simplex.
+    furthest_site : bool
+        Always False.
+    triangulation : Triangulation
+        lfqt's result behind the object, with its ``stats``.
+
     Notes
     -----
-    ``coplanar`` lists the duplicate rows that are not vertices, as (row,
-    simplex containing its twin, the twin), and ``vertex_to_simplex`` maps
-    such a row to that simplex.  ``paraboloid_scale`` and
-    ``paraboloid_shift`` scale the lifted coordinate to the range of the
-    others, as Qhull's "Qbb" does (1 and 0 in incremental mode, as scipy's).
+    A query of ``find_simplex`` is located exactly, also where a coordinate
+    lies below the exactness window of the triangulation's frame (module
+    lfqt.location).  The derived attributes are computed on first access by
+    jitted kernels (lfqt.derived), on ``threads`` threads.
+
+    Examples
+    --------
+    >>> import numpy as np, lfqt
+    >>> points = np.array([[0, 0], [0, 1.1], [1, 0], [1, 1]])
+    >>> tri = lfqt.Delaunay(points)
+    >>> tri.simplices
+    array([[0, 2, 3],
+           [3, 1, 0]], dtype=int32)
+    >>> tri.find_simplex([[0.1, 0.2], [1.5, 0.5]])
+    array([ 1, -1], dtype=int32)
+    >>> lfqt.verify(points, tri).ok
+    True
+
+    Barycentric coordinates of a query, as with scipy:
+
+    >>> T = tri.transform[1]
+    >>> c = T[:2] @ (np.array([0.1, 0.2]) - T[2])
+    >>> np.round(np.r_[c, 1 - c.sum()], 4)
+    array([0.1   , 0.0909, 0.8091])
     """
 
-    def __init__(self, points, furthest_site=False, incremental=False, qhull_options=None,
-                 **options):
+    def __init__(self, points: npt.ArrayLike, furthest_site: bool = False,
+                 incremental: bool = False, qhull_options: str | None = None,
+                 **options: Any) -> None:
+        """Triangulate ``points`` exactly (see the class's parameters)."""
         arr = _points_array(points)
         if furthest_site:
             raise NotImplementedError("furthest_site=True (Qhull's 'Qu'): lfqt builds the "
@@ -168,12 +235,14 @@ class Delaunay:
     # -- the triangulation -------------------------------------------------
 
     @property
-    def triangulation(self):
+    def triangulation(self) -> Triangulation:
         """lfqt's Triangulation behind this object (with its stats)."""
         return self._tri
 
     @property
-    def stats(self):
+    def stats(self) -> dict:
+        """The triangulation's statistics (``Triangulation.stats``): phase
+        times, predicate counts, the frame's scale exponent."""
         return self._tri.stats
 
     @property
@@ -251,7 +320,7 @@ class Delaunay:
         workers.map(workers.chunks(self.nsimplex), lambda c, lo, hi: kernel(*args, out, lo, hi))
         return out
 
-    def lift_points(self, x):
+    def lift_points(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Lift points onto the paraboloid: (..., ndim) -> (..., ndim+1)."""
         x = np.asarray(x, dtype=np.float64)
         z = np.zeros(x.shape[:-1] + (x.shape[-1] + 1,))
@@ -259,7 +328,7 @@ class Delaunay:
         z[..., -1] = (x ** 2).sum(axis=-1) * self.paraboloid_scale + self.paraboloid_shift
         return z
 
-    def plane_distance(self, xi):
+    def plane_distance(self, xi: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Distance of each lifted point to every simplex's hyperplane:
         (..., ndim) -> (..., nsimplex)."""
         xi = np.asarray(xi, dtype=np.float64)
@@ -271,7 +340,8 @@ class Delaunay:
 
     # -- point location ---------------------------------------------------
 
-    def find_simplex(self, xi, bruteforce=False, tol=None):
+    def find_simplex(self, xi: npt.ArrayLike, bruteforce: bool = False,
+                     tol: float | None = None) -> npt.NDArray[np.intc]:
         """Index of a simplex containing each point of ``xi`` (..., ndim),
         -1 outside the hull or for NaN, as scipy's.  Exact: the answer
         always contains the query.  The queries are walked in the order of
@@ -351,7 +421,7 @@ class Delaunay:
 
     # -- incremental mode -------------------------------------------------
 
-    def add_points(self, points, restart=False):
+    def add_points(self, points: npt.ArrayLike, restart: bool = False) -> None:
         """Add points (incremental mode only): the union of the old and new
         points is triangulated again, exactly; ``restart`` gives the same
         result and is accepted for scipy's signature."""
@@ -360,7 +430,7 @@ class Delaunay:
         new = _points_array(points, self.ndim)
         self._build(np.concatenate((self.points, np.asarray(new, dtype=np.float64)), axis=0))
 
-    def close(self):
+    def close(self) -> None:
         """Finish incremental processing: no more ``add_points``."""
         self._open = False
 
