@@ -3,10 +3,17 @@ property-based), then on a real 2-worker dask LocalCluster (inputs, outputs,
 the worker-loss retry).  Every mesh is checked twice: by lfqt.verify on the
 gathered result and by the distributed lfqt.distributed.verify."""
 import copy
+import doctest
+import inspect
 import os
 import signal
+import subprocess
+import sys
+import textwrap
 import threading
 import time
+import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +26,7 @@ from lfqt.distributed import check as dcheck, partition, sources
 from conftest import triangle_set
 
 dask_distributed = pytest.importorskip("dask.distributed")
+import dask  # noqa: E402  (after dask.distributed: skipped with it)
 
 
 def serial(points, tiles, chunk_rows=97):
@@ -212,6 +220,75 @@ def _flip_one_edge(pts, tri):
     raise AssertionError("no flippable edge")
 
 
+# --- the public functions: annotated, and their examples run ---------------------------------
+
+def test_every_public_item_is_annotated_and_has_examples():
+    for name in D.__all__:
+        item = getattr(D, name)
+        assert "Examples\n    --------" in item.__doc__, name
+        functions = [m for _, m in inspect.getmembers(item, inspect.isfunction)
+                     if not m.__name__.startswith("_")] if inspect.isclass(item) else [item]
+        for f in functions:
+            sig = inspect.signature(f)
+            assert sig.return_annotation is not sig.empty, f.__qualname__
+            assert all(p.annotation is not p.empty for p in sig.parameters.values()
+                       if p.name != "self"), f.__qualname__
+
+
+@pytest.mark.parametrize("name", ["triangulate_on", "verify_on", "assemble", "Serial"])
+def test_the_examples_that_need_no_cluster_run(name):
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    for test in doctest.DocTestFinder().find(getattr(D, name), name, globs={}):
+        runner.run(test)
+    assert runner.summarize(verbose=False) == (0, runner.tries) and runner.tries
+
+
+# --- a plain script: lfqt.distributed's own LocalCluster, in a child process ----------------
+
+SCRIPT_TOP = """\
+import os
+import sys
+
+import numpy as np
+
+import lfqt
+
+with open("runs.txt", "a") as f:  # once: no worker imports the script again
+    print(os.getpid(), file=f)
+"""
+
+SCRIPT_CALLS = """\
+pts = np.random.default_rng(3).random((3000, 2))
+main_file = sys.modules["__main__"].__file__
+tri = lfqt.distributed.triangulate(pts, tiles=3, progress=False)
+report = lfqt.distributed.verify(tri, pts, progress=False)
+assert sys.modules["__main__"].__file__ == main_file  # given back
+np.save("points.npy", pts)
+np.save("simplices.npy", tri.simplices)
+print("distributed verify:", report.ok)
+"""
+
+
+@pytest.mark.parametrize("guard", [False, True], ids=["top level", "under the guard"])
+def test_a_script_with_or_without_the_main_guard(tmp_path, guard):
+    """A script run as ``python script.py``, its calls at top level or
+    under ``if __name__ == "__main__":``; before, the first failed with
+    "RuntimeError: Nanny failed to start" and the second ran the script's
+    top level again in every worker."""
+    calls = ('if __name__ == "__main__":\n' + textwrap.indent(SCRIPT_CALLS, "    ")
+             if guard else SCRIPT_CALLS)
+    (tmp_path / "script.py").write_text(SCRIPT_TOP + "\n" + calls)
+    env = dict(os.environ, PYTHONPATH=str(Path(lfqt.__file__).resolve().parents[1]))
+    run = subprocess.run([sys.executable, "script.py"], cwd=tmp_path, env=env,
+                         capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "distributed verify: True" in run.stdout
+    assert len((tmp_path / "runs.txt").read_text().split()) == 1
+    pts, S = np.load(tmp_path / "points.npy"), np.load(tmp_path / "simplices.npy")
+    assert lfqt.verify(pts, D.assemble(pts, S, np.arange(len(pts)), {})).ok
+    assert triangle_set(S) == triangle_set(lfqt.triangulate(pts).simplices)
+
+
 # --- on a real Dask cluster -------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -279,6 +356,35 @@ def test_dask_out_writes_each_tile(client, cloud, reference, tmp_path, fmt):
 def test_dask_grid_and_cocircular_are_valid(client):
     for pts in (_grid(300, 200), _cocircular()):
         _gathered_ok(pts, D.triangulate(pts, client=client, tiles=5, progress=False), client)
+
+
+def test_in_memory_input_draws_no_large_graph_warning(client):
+    """Every tile's triangles (24 bytes each) exceed the size at which Dask
+    warns of a large graph: verify sends them in tasks of at most 8 MiB,
+    and the tasks that read them (or the points) get futures."""
+    from dask.utils import parse_bytes
+    pts = np.random.default_rng(11).random((450_000, 2))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        tri = D.triangulate(pts, client=client, tiles=2, progress=False)
+        _gathered_ok(pts, tri, client, triangle_set(lfqt.triangulate(pts).simplices))
+    threshold = parse_bytes(dask.config.get("distributed.admin.large-graph-warning-threshold"))
+    assert min(tri.stats["triangles_per_tile"]) * 24 > threshold
+    assert not [str(w.message) for w in caught if "large graph" in str(w.message)]
+
+
+def test_put_data_outlives_the_worker_holding_it(client):
+    """Data sent by Engine.put is a task's result: when the worker holding
+    it dies, it is computed again (scattered data would be gone)."""
+    from lfqt.distributed.engine import Dask
+    engine = Dask(client, progress=False)
+    data = np.arange(3 << 20)  # 24 MiB: three tasks, joined on a worker
+    future = engine.put(data)
+    dask_distributed.wait(future)
+    holder = client.who_has([future])[future.key][0]
+    os.kill(client.run(os.getpid)[holder], signal.SIGKILL)  # the nanny restarts it
+    assert np.array_equal(engine.gather([engine.submit(np.copy, future)])[0], data)
+    assert holder not in client.scheduler_info()["workers"]
 
 
 def test_dask_worker_loss_is_retried(client, cloud, reference):

@@ -26,16 +26,34 @@ Every decision is exact (lfqt.distributed.geometry).  The result is the
 Delaunay triangulation; where it is not unique (grids, cocircular sets) it
 is one valid Delaunay triangulation, checked tile by tile by ``verify``.
 """
+from __future__ import annotations
+
 import contextlib
+import os
 import time
+from collections.abc import Iterator, Sequence
 from operator import getitem
+from typing import TYPE_CHECKING, Any, Literal, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from .._input import MAX_EXP, MIN_ULP_EXP, window_exponent
 from ..triangulation import Triangulation
 from . import partition, sources, tiles as tile_tasks
 from .engine import Dask, Serial
+
+if TYPE_CHECKING:
+    from dask.distributed import Client
+
+    from ..verification import VerifyReport
+
+Points = Union[npt.ArrayLike, str, os.PathLike, Sequence[Union[str, os.PathLike]]]
+"""In-memory (n, 2) points, a dask.array, or a path, a glob or a list of
+``.npy`` or Parquet chunks (lfqt.distributed.sources)."""
+Chunk = tuple[str, Any, int]
+"""(kind, what, rows): one chunk of the input (lfqt.distributed.sources)."""
+Engine = Union[Dask, Serial]
 
 SAMPLE_SIZE = 1 << 17  # points drawn to place the k-d cuts
 NEIGHBOUR_ROUNDS = 2  # rounds of the first phase (see step 3 above)
@@ -43,7 +61,10 @@ SEED = 0
 FORMATS = ("npy", "parquet")
 
 
-def triangulate(points, *, client=None, tiles=None, out=None, format="npy", progress=None):
+def triangulate(points: Points, *, client: Client | str | None = None,
+                tiles: int | np.integer[Any] | None = None, out: str | os.PathLike | None = None,
+                format: Literal["npy", "parquet"] = "npy",
+                progress: bool | None = None) -> Triangulation | Tiles:
     """Exact 2D Delaunay triangulation on a Dask cluster (Tile & Merge).
 
     Parameters
@@ -57,7 +78,9 @@ def triangulate(points, *, client=None, tiles=None, out=None, format="npy", prog
     client : dask.distributed.Client, str or None
         A client, a scheduler address, or None to start a LocalCluster on
         the local cores for this call (one single-threaded worker process
-        per core, at most 8 GiB each).
+        per core, at most 8 GiB each).  Its workers do not run the main
+        script again: a script may call this at top level, without
+        ``if __name__ == "__main__":``.
     tiles : int or None
         Number of tiles (default: about 2**20 points each, at least two per
         worker).
@@ -73,9 +96,41 @@ def triangulate(points, *, client=None, tiles=None, out=None, format="npy", prog
 
     Returns
     -------
-    Triangulation, or (with ``out``) the list of the files written
-    (:class:`Tiles`, with ``.stats``: tiles, rounds, points sent per round,
-    points received per tile, peak memory per worker, seconds per phase).
+    Triangulation or Tiles
+        The triangulation (int64 global ids), or with ``out`` the list of
+        the files written (:class:`Tiles`).  Either has ``.stats``: tiles,
+        rounds, points sent per round, points received per tile, peak
+        memory per worker, seconds per phase.
+
+    Raises
+    ------
+    ValueError
+        A bad ``format`` or ``tiles``, points that are not (n, 2), NaN or
+        infinite, or that span more binades than the predicates' window.
+
+    See Also
+    --------
+    verify : the exact check of the result, share by share.
+    lfqt.triangulate : the same triangulation on one process.
+
+    Examples
+    --------
+    In-memory points, on a LocalCluster started for the call (a few
+    seconds; an in-memory input is sent to the cluster once):
+
+    >>> import numpy as np
+    >>> import lfqt
+    >>> pts = np.random.default_rng(0).random((20_000, 2))
+    >>> tri = lfqt.distributed.triangulate(pts, tiles=4, progress=False)
+    >>> tri.stats["tiles"], tri.simplices.dtype
+    (4, dtype('int64'))
+    >>> lfqt.verify(pts, tri).ok
+    True
+
+    Files in, files out, on an existing cluster:
+
+    >>> got = lfqt.distributed.triangulate("cloud/part-*.npy", out="tiles/",
+    ...                                    client="tcp://scheduler:8786")  # doctest: +SKIP
     """
     if format not in FORMATS:
         raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
@@ -86,23 +141,63 @@ def triangulate(points, *, client=None, tiles=None, out=None, format="npy", prog
 
 
 @contextlib.contextmanager
-def _on_dask(points, client, progress):
+def _on_dask(points: Points, client: Client | str | None,
+             progress: bool | None) -> Iterator[tuple[list[Chunk], Dask]]:
     """(chunks of ``points``, the Dask engine), closed afterwards; a dask
-    collection's blocks are computed on the cluster, once."""
+    collection's blocks are computed on the cluster, once, and in-memory
+    chunks sent there once (``Dask.put``): the tasks get futures."""
     chunk_list = sources.chunks(points)
     engine = Dask(client, progress)
     try:
         if chunk_list and chunk_list[0][0] == "dask":
             blocks = engine.client.compute([c[1] for c in chunk_list])
             chunk_list = [("dask", b, c[2]) for b, c in zip(blocks, chunk_list)]
+        chunk_list = [(kind, engine.put(what) if kind == "array" else what, rows)
+                      for kind, what, rows in chunk_list]
         yield chunk_list, engine
     finally:
         engine.close()
 
 
-def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=None):
-    """Tile & Merge over ``chunk_list`` (lfqt.distributed.sources) on
-    ``engine`` (lfqt.distributed.engine); see ``triangulate``."""
+def triangulate_on(chunk_list: list[Chunk], engine: Engine,
+                   tiles: int | np.integer[Any] | None = None,
+                   out: str | os.PathLike | None = None, fmt: Literal["npy", "parquet"] = "npy",
+                   points: Points | None = None) -> Triangulation | Tiles:
+    """Tile & Merge over chunks, on an engine: ``triangulate`` without the
+    validation of its arguments and the cluster it starts.
+
+    Parameters
+    ----------
+    chunk_list : list of (kind, what, rows)
+        The input's chunks (``lfqt.distributed.sources.chunks``), the
+        data of an "array" or "dask" chunk in memory or as a future.
+    engine : Serial or lfqt.distributed.engine.Dask
+        Where the tasks run.
+    tiles, out
+        As for ``triangulate``.
+    fmt : {"npy", "parquet"}
+        ``triangulate``'s ``format``.
+    points : array_like (n, 2) or None
+        The points of the returned Triangulation when ``out`` is None; None
+        or anything but an ndarray: the chunks, read back.
+
+    Returns
+    -------
+    Triangulation or Tiles
+        As for ``triangulate``.
+
+    Examples
+    --------
+    On this process, in chunks of 300 points:
+
+    >>> import numpy as np
+    >>> import lfqt
+    >>> from lfqt.distributed import Serial, sources, triangulate_on
+    >>> pts = np.random.default_rng(0).random((1000, 2))
+    >>> tri = triangulate_on(sources.chunks(pts, 300), Serial(), tiles=3, points=pts)
+    >>> len(tri.simplices) == len(lfqt.triangulate(pts).simplices)
+    True
+    """
     t0 = time.perf_counter()
     starts, scale_exp, sample = _measure(chunk_list, engine)
     n = int(starts[-1])
@@ -118,9 +213,10 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
 
     live = [t for t in range(T) if not np.isnan(boxes[t, 0])]
     state = {t: tile_tasks.new_state(T) for t in live}
-    inbox = {t: [] for t in live}
+    inbox: dict[int, Any] = {t: [] for t in live}  # a list, then a future
     near = partition.touching(cells)
-    active, history, everywhere = list(live), [], False
+    active, everywhere = list(live), False
+    history: list[dict[str, Any]] = []
     while active:
         t_round = time.perf_counter()
         stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
@@ -132,7 +228,7 @@ def triangulate_on(chunk_list, engine, tiles=None, out=None, fmt="npy", points=N
         outbox = {t: engine.submit(getitem, s, 1, key="outbox") for t, s in stepped.items()}
         for t, s in stepped.items():
             state[t] = engine.submit(getitem, s, 0, key="state")
-        senders = {}
+        senders: dict[int, list[int]] = {}
         for s in summaries:
             for j in s["sent"]:
                 senders.setdefault(j, []).append(s["tile"])
@@ -213,18 +309,47 @@ def _tiles(chunk_list, starts, scale_exp, nodes, T, engine):
     return local, cuts
 
 
-class Tiles(list):
+class Tiles(list[str]):
     """The paths of the tiles' files (what ``triangulate`` returns with
     ``out``), with ``n`` (the points) and ``stats`` (as a Triangulation's)."""
 
-    def __init__(self, paths, *, n, stats):
+    def __init__(self, paths: Sequence[str], *, n: int, stats: dict[str, Any]) -> None:
         super().__init__(paths)
         self.n, self.stats = n, stats
 
 
-def assemble(points, simplices, duplicate_of, stats):
+def assemble(points: npt.ArrayLike, simplices: npt.ArrayLike, duplicate_of: npt.ArrayLike,
+             stats: dict[str, Any]) -> Triangulation:
     """A Triangulation from gathered triangles: neighbours by matching
-    each edge with its twin, and the hull loop from the unmatched ones."""
+    each edge with its twin, and the hull loop from the unmatched ones.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        The points, kept as the result's ``points``.
+    simplices : array_like of int, shape (m, 3)
+        Counter-clockwise triangles of global ids, in any order.
+    duplicate_of : array_like of int, shape (n,)
+        Per point, the smallest id of the points equal to it.
+    stats : dict
+        The result's ``stats``.
+
+    Returns
+    -------
+    Triangulation
+        int64 ids; ``degenerate`` when there are no triangles, with the
+        lexicographic extremes as its hull.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from lfqt.distributed import assemble
+    >>> square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    >>> tri = assemble(square, [[0, 1, 2], [0, 2, 3]], np.arange(4), {})
+    >>> tri.neighbors.tolist(), tri.hull.tolist()
+    ([[-1, 1, -1], [-1, -1, 0]], [0, 1, 2, 3])
+    """
+    duplicate_of = np.asarray(duplicate_of, dtype=np.int64)
     n = len(duplicate_of)
     S = np.asarray(simplices, dtype=np.int64)
     m = len(S)
@@ -267,22 +392,57 @@ def _hull(points, a, b):
     return np.array(loop, dtype=np.int64)
 
 
-def verify(result, points, *, client=None, progress=None):
+def verify(result: Triangulation | Sequence[str | os.PathLike], points: Points, *,
+           client: Client | str | None = None, progress: bool | None = None) -> VerifyReport:
     """Exactly check a distributed triangulation share by share
     (lfqt.distributed.check), without loading the whole point set on one
     process.
 
-    ``result``: what ``triangulate`` returned (a Triangulation, or the
-    list of tile files).  ``points``: the same input as
-    given to ``triangulate``.  Returns a lfqt.VerifyReport.
+    Parameters
+    ----------
+    result : Triangulation or list of str
+        What ``triangulate`` returned: a Triangulation (any, with global
+        ids as its indices), or the tiles' files.
+    points : array_like (n, 2), dask.array, or str / list of str
+        The input given to ``triangulate``.
+    client, progress
+        As for ``triangulate`` (None: a LocalCluster for this call, which
+        a script may start at top level).
+
+    Returns
+    -------
+    lfqt.VerifyReport
+        ``ok`` when ``result`` is the Delaunay triangulation of the points;
+        ``problems`` names what is wrong, ``counts`` holds the triangles,
+        vertices and distinct points.
+
+    See Also
+    --------
+    lfqt.verify : the same check on one process.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import lfqt
+    >>> pts = np.random.default_rng(0).random((20_000, 2))
+    >>> report = lfqt.distributed.verify(lfqt.triangulate(pts), pts, progress=False)
+    >>> report.ok, report.counts["distinct_points"]
+    (True, 20000)
+
+    The files that ``triangulate(..., out="tiles/")`` wrote:
+
+    >>> lfqt.distributed.verify(got, "cloud/part-*.npy").ok  # doctest: +SKIP
+    True
     """
     with _on_dask(points, client, progress) as (chunk_list, engine):
         return verify_on(result, chunk_list, engine)
 
 
-def _shares(result, engine):
-    """The triangles as shares: (kind, what) per tile file or slice."""
-    if isinstance(result, (list, tuple)):
+def _shares(result: Triangulation | Sequence[str | os.PathLike],
+            engine: Engine) -> list[tuple[str, Any]]:
+    """The triangles as shares: (kind, what) per tile file, or per slice
+    of a Triangulation's, sent to the cluster once (``put``)."""
+    if not isinstance(result, Triangulation):
         return [("npy" if str(p).endswith(".npy") else "parquet", str(p)) for p in result]
     S = np.asarray(result.simplices, dtype=np.int64)
     per = (result.stats or {}).get("triangles_per_tile")
@@ -291,11 +451,39 @@ def _shares(result, engine):
     else:
         k = max(2 * engine.workers, -(-len(S) // (1 << 21)))
         cuts = np.linspace(0, len(S), k + 1).astype(np.int64)
-    return [("array", S[lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
+    return [("array", engine.put(S[lo:hi])) for lo, hi in zip(cuts[:-1], cuts[1:])]
 
 
-def verify_on(result, chunk_list, engine):
-    """``verify`` on an engine (lfqt.distributed.engine)."""
+def verify_on(result: Triangulation | Sequence[str | os.PathLike], chunk_list: list[Chunk],
+              engine: Engine) -> VerifyReport:
+    """``verify`` over chunks, on an engine (as ``triangulate_on``).
+
+    Parameters
+    ----------
+    result : Triangulation or list of str
+        As for ``verify``.
+    chunk_list : list of (kind, what, rows)
+        The points' chunks (``lfqt.distributed.sources.chunks``).
+    engine : Serial or lfqt.distributed.engine.Dask
+        Where the tasks run.
+
+    Returns
+    -------
+    lfqt.VerifyReport
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import lfqt
+    >>> from lfqt.distributed import Serial, sources, verify_on
+    >>> pts = np.random.default_rng(0).random((1000, 2))
+    >>> tri = lfqt.triangulate(pts)
+    >>> verify_on(tri, sources.chunks(pts, 300), Serial()).ok
+    True
+    >>> tri.simplices = tri.simplices[1:]  # a hole
+    >>> verify_on(tri, sources.chunks(pts, 300), Serial()).problems
+    ['hull not one cycle: 1']
+    """
     from ..verification import VerifyReport
     from . import check as ck
     starts, scale_exp, sample = _measure(chunk_list, engine)
@@ -315,18 +503,18 @@ def verify_on(result, chunk_list, engine):
     checked = [engine.submit(ck.check_share, r, *[engine.submit(ck.lookup_piece, f, s)
                                                   for f in found])
                for s, r in enumerate(reqs)]
-    counts = {}
+    counts: dict[str, int] = {}
 
-    def add(d):
+    def add(d: dict[str, Any]) -> None:
         for k, v in d.items():
             counts[k] = counts.get(k, 0) + int(v)
 
     for c in engine.gather([engine.submit(getitem, x, 0) for x in checked], "check shares"):
         add(c)
     used = engine.gather([engine.submit(getitem, f, 1) for f in found])
-    border_counts, H = engine.gather([engine.submit(ck.check_border, *[
-        engine.submit(getitem, x, 1) for x in checked])])[0]
-    add(border_counts)
+    border = engine.submit(ck.check_border, *[engine.submit(getitem, x, 1) for x in checked])
+    H = engine.submit(getitem, border, 1)  # the hull loop stays on the cluster
+    add(engine.gather([engine.submit(getitem, border, 0)])[0])
     if counts["triangles"]:
         add({"points_outside_hull": sum(engine.gather([
             engine.submit(ck.outside_hull, kind, what, scale_exp, H)
@@ -346,7 +534,7 @@ def verify_on(result, chunk_list, engine):
     checks = {k: not v for k, v in counts.items() if k != "triangles"}
     counts["distinct_points"] = distinct
     counts["vertices"] = int(sum(used))
-    return VerifyReport(not problems, checks, problems, counts)
+    return VerifyReport(not problems, checks, problems, {**counts})
 
 
 __all__ = ["triangulate", "verify", "triangulate_on", "verify_on", "Serial", "assemble"]
