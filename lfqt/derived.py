@@ -128,8 +128,8 @@ def vertex_neighbours(S, n):
     """(indptr, indices): the sorted neighbours of vertex v are
     indices[indptr[v]:indptr[v+1]] (scipy's ``vertex_neighbor_vertices``).
     From the simplices around each vertex (a counting sort of the
-    simplices' vertices), each neighbour once by a stamp per vertex, then
-    the short list sorted in place."""
+    simplices' vertices), each neighbour once by a stamp per vertex,
+    insertion-sorted into its short list as it comes."""
     m, k1 = S.shape
     first = np.zeros(n + 1, dtype=np.int64)
     for t in range(m):
@@ -146,31 +146,21 @@ def vertex_neighbours(S, n):
             fill[v] += 1
     stamp = np.full(n, -1, dtype=np.int32)
     indptr = np.zeros(n + 1, dtype=np.int32)
-    for v in range(n):  # count
-        c = 0
+    indices = np.empty(first[n] * (k1 - 1), dtype=np.int32)  # room for every repeat
+    w = 0
+    for v in range(n):  # each new neighbour once, insertion-sorted among the few
+        lo = w
         for z in range(first[v], first[v + 1]):
             t = around[z]
             for j in range(k1):
-                w = S[t, j]
-                if w != v and stamp[w] != v:
-                    stamp[w] = v
-                    c += 1
-        indptr[v + 1] = indptr[v] + c
-    indices = np.empty(indptr[n], dtype=np.int32)
-    stamp[:] = -1
-    for v in range(n):  # write, then insertion-sort the few
-        lo = indptr[v]
-        c = lo
-        for z in range(first[v], first[v + 1]):
-            t = around[z]
-            for j in range(k1):
-                w = S[t, j]
-                if w != v and stamp[w] != v:
-                    stamp[w] = v
-                    k = c
-                    while k > lo and indices[k - 1] > w:
+                x = S[t, j]
+                if x != v and stamp[x] != v:
+                    stamp[x] = v
+                    k = w
+                    while k > lo and indices[k - 1] > x:
                         indices[k] = indices[k - 1]
                         k -= 1
-                    indices[k] = w
-                    c += 1
-    return indptr, indices
+                    indices[k] = x
+                    w += 1
+        indptr[v + 1] = w
+    return indptr, indices[:w].copy()
