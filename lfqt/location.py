@@ -41,10 +41,9 @@ from fractions import Fraction
 import numpy as np
 from numba import njit
 
-from .predicates.counters import N_PREDICATE, orient2d
 from .predicates.expansion import (cross_exact, exact_diff, expansion_product, expansion_sum,
                                    scale_expansion)
-from .predicates.planar import CCW_A
+from .predicates.planar import CCW_A, orient2d_staged
 from .predicates.spatial import O3D_A, orient3d_staged
 
 TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in _tiny_frame_ok)
@@ -54,49 +53,64 @@ SEEN = 4096       # simplices a tolerant query evaluates, at most
 
 
 @njit(cache=True, inline="always")
-def _vertex(P, v, q, replaced):
+def _vertex(P, v, qx, qy, qz, replaced):
     if replaced:
-        return q[0], q[1], q[2]
+        return qx, qy, qz
     return P[v, 0], P[v, 1], P[v, 2]
 
 
-@njit(cache=True, nogil=True)
-def _beyond(P, S, t, i, q, cnt):
+@njit(cache=True, inline="always")
+def _beyond(P, S, t, i, qx, qy, qz):
     """True when q lies strictly beyond the facet of simplex t opposite
-    vertex i."""
+    vertex i.  Scalars only: an array argument here would cost an atomic
+    reference-count update per test (lfqt.predicates.planar)."""
     if P.shape[1] == 2:
-        a = S[t, (i + 1) % 3]
-        b = S[t, (i + 2) % 3]
-        return orient2d(P[a, 0], P[a, 1], P[b, 0], P[b, 1], q[0], q[1], CCW_A, cnt) < 0.0
-    ax, ay, az = _vertex(P, S[t, 0], q, i == 0)
-    bx, by, bz = _vertex(P, S[t, 1], q, i == 1)
-    cx, cy, cz = _vertex(P, S[t, 2], q, i == 2)
-    dx, dy, dz = _vertex(P, S[t, 3], q, i == 3)
+        a = S[t, i + 1 if i < 2 else 0]
+        b = S[t, i + 2 if i < 1 else i - 1]
+        o, _ = orient2d_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], qx, qy, CCW_A)
+        return o < 0.0
+    ax, ay, az = _vertex(P, S[t, 0], qx, qy, qz, i == 0)
+    bx, by, bz = _vertex(P, S[t, 1], qx, qy, qz, i == 1)
+    cx, cy, cz = _vertex(P, S[t, 2], qx, qy, qz, i == 2)
+    dx, dy, dz = _vertex(P, S[t, 3], qx, qy, qz, i == 3)
     o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
     return o < 0.0
 
 
+@njit(cache=True, inline="always")
+def _query(Q, k):
+    return Q[k, 0], Q[k, 1], Q[k, Q.shape[1] - 1]
+
+
 @njit(cache=True, nogil=True)
-def _contains(P, S, t, q, cnt):
+def _contains(P, S, t, qx, qy, qz):
     for i in range(S.shape[1]):
-        if _beyond(P, S, t, i, q, cnt):
+        if _beyond(P, S, t, i, qx, qy, qz):
             return False
     return True
 
 
 @njit(cache=True, nogil=True)
-def _walk(P, S, N, q, t, k, cnt):
+def _walk(P, S, N, qx, qy, qz, t, k):
     """(simplex of q or -1, the last simplex visited) by the visibility walk
-    from t; -2 when the step budget runs out (the caller falls back)."""
+    from t; -2 when the step budget runs out (the caller falls back).  The
+    facet a step came through is not tested again: q lies beyond it from
+    the other side."""
     k1 = S.shape[1]
+    came = -1
     for _ in range(4 * S.shape[0] + 4):
         moved = False
         for j in range(k1):
             i = (j + k) % k1  # vary the first facet tried, so the walk cannot cycle
-            if _beyond(P, S, t, i, q, cnt):
-                if N[t, i] < 0:
+            if i != came and _beyond(P, S, t, i, qx, qy, qz):
+                u = N[t, i]
+                if u < 0:
                     return -1, t
-                t = N[t, i]
+                came = -1
+                for r in range(k1):
+                    if N[u, r] == t:
+                        came = r
+                t = u
                 moved = True
                 break
         if not moved:
@@ -111,13 +125,13 @@ def locate_walk(P, S, N, Q, order, out, last):
     outside.  ``last[k]`` is the last simplex query k's walk visited (where
     an outside query left the hull).  A walk that exceeds its step budget
     falls back to the brute force."""
-    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
     t = 0
     for r in range(order.shape[0]):
         k = order[r]
-        found, t = _walk(P, S, N, Q[k], t, r, cnt)
+        qx, qy, qz = _query(Q, k)
+        found, t = _walk(P, S, N, qx, qy, qz, t, r)
         if found == -2:
-            found = _scan(P, S, Q[k], cnt)
+            found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
         out[k] = found
         last[k] = t
@@ -154,9 +168,9 @@ def _grid_keys(Q, bits):
 
 
 @njit(cache=True, nogil=True)
-def _scan(P, S, q, cnt):
+def _scan(P, S, qx, qy, qz):
     for s in range(S.shape[0]):
-        if _contains(P, S, s, q, cnt):
+        if _contains(P, S, s, qx, qy, qz):
             return s
     return -1
 
@@ -188,13 +202,12 @@ def locate_brute(P, S, B, Q, lo, hi, out):
     holds the query, in index order; -1 outside.  The boxes of a block are
     tested without a branch (the loop vectorises), the predicates run only
     on the hits."""
-    cnt = np.zeros(N_PREDICATE, dtype=np.int64)
     m = S.shape[0]
     d = P.shape[1]
     hit = np.empty(BLOCK, dtype=np.bool_)
     for k in range(lo, hi):
         out[k] = -1
-        qx, qy, qz = Q[k, 0], Q[k, 1], Q[k, d - 1]
+        qx, qy, qz = _query(Q, k)
         for s0 in range(0, m, BLOCK):
             s1 = min(s0 + BLOCK, m)
             some = False
@@ -206,7 +219,7 @@ def locate_brute(P, S, B, Q, lo, hi, out):
                 some |= h
             if some:
                 for s in range(s0, s1):
-                    if hit[s - s0] and _contains(P, S, s, Q[k], cnt):
+                    if hit[s - s0] and _contains(P, S, s, qx, qy, qz):
                         out[k] = s
                         break
             if out[k] >= 0:

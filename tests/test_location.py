@@ -28,8 +28,15 @@ def _contains(pts, simplex, q):
 
 
 def _inside_hull(pts, d, q):
-    """Exactly: does q lie in some simplex (the hull, closed)?"""
-    return any(_contains(pts, s, q) for s in d.simplices)
+    """Exactly: does q lie in the hull (closed), i.e. beyond none of the
+    hull facets (the facets without a neighbour)?"""
+    qf = [F(float(c)) for c in q]
+    for s, nb in zip(d.simplices, d.neighbors):
+        for i in np.flatnonzero(nb < 0):
+            verts = [[F(float(c)) for c in pts[v]] for v in s]
+            if _orient(verts[:i] + [qf] + verts[i + 1:]) < 0:
+                return False
+    return True
 
 
 def _check(pts, d, qs, found):

@@ -47,11 +47,7 @@ Indices = npt.NDArray[np.integer[Any]]
 def main() -> None:
     rng = np.random.default_rng(0)
     p: npt.NDArray[np.float64] = rng.random((200, 2))
-    tri: lfqt.Triangulation = lfqt.triangulate(p)
-    tri = lfqt.triangulate(p.tolist(), threads=None, subdivision="alternating", counters=False,
-                           filter="constant", schedule="levels")
-    tri = lfqt.triangulate(p, threads=np.int64(2), method="hybrid", leaf_size=64,
-                           leaf_order="kdtree")
+    tri: lfqt.Triangulation = lfqt.triangulate(p, threads=np.int64(2))
     reveal_type(tri.simplices)
     simplices: Indices = tri.simplices
     neighbors: Indices = tri.neighbors
@@ -69,12 +65,10 @@ def main() -> None:
     print(report.problems)
 
     p3: npt.NDArray[np.float64] = rng.random((200, 3))
-    tet = lfqt.insert(p3, order="brio", seed=1, phase_times=True)
-    facets: Indices = tet.hull
-    print(facets.shape, tet.stats["per_point"])
     perm, hint = lfqt.orders.order(p3, "kdtree", hint="sibling")
     tet = lfqt.insert(p3, order=(perm, hint))
-    tet = lfqt.insert(p3, order="kdtree", hint="parent", counters=False)
+    facets: Indices = tet.hull
+    print(facets.shape, tet.stats["per_point"])
     perm, hint, store, stored = lfqt.orders.layout(p3, "hilbert")
     names: tuple[str, ...] = lfqt.orders.ORDERS
     print(perm.dtype, hint.dtype, store.dtype, stored.shape, names)
@@ -97,6 +91,17 @@ def main() -> None:
         problem: ValueError = error
         print(problem)
     lfqt.workspace.release()
+
+
+def options(p: npt.NDArray[np.float64], p3: npt.NDArray[np.float64]) -> None:
+    """Never called: mypy checks the options' types; running them would only
+    compile their kernel variants (tests/test_dc.py and test_insert.py do)."""
+    tri = lfqt.triangulate(p.tolist(), threads=None, subdivision="alternating", counters=False,
+                           filter="constant", schedule="levels")
+    tri = lfqt.triangulate(p, method="hybrid", leaf_size=64, leaf_order="kdtree")
+    tet = lfqt.insert(p3, order="brio", seed=1, phase_times=True)
+    tet = lfqt.insert(p3, order="kdtree", hint="parent", counters=False)
+    print(tri, tet)
 
 
 def on_a_cluster(pts: npt.NDArray[np.float64]) -> None:
