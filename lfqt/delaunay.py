@@ -13,8 +13,9 @@ from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
 from .derived import hyperplanes, transforms, vertex_neighbours
 from .incremental import insert
-from .location import (TINY_SHIFT, grid_order, locate_brute, locate_rational, locate_tiny,
-                       locate_tolerant, locate_walk, simplex_boxes, tiny_frame_ok)
+from .location import (TINY_SHIFT, grid_order, jump_sample, locate_brute, locate_rational,
+                       locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
+                       tiny_frame_ok)
 from .triangulation import DegenerateInputError, Triangulation
 from .workers import Workers
 
@@ -357,67 +358,63 @@ class Delaunay:
             raise ValueError("wrong dimensionality in xi")
         shape = xi.shape[:-1]
         q = np.ascontiguousarray(xi.reshape(-1, self.ndim), dtype=np.float64)
+        # NaN and points outside the bounding box are outside: no predicate.  Q holds the
+        # part of each query in the box that the frame holds exactly; tiny marks the rest.
+        tol = float(tol) if tol is not None and tol > 0 else 0.0
+        rows, Q, tiny, near = split_queries(q, self.min_bound, self.max_bound, self._scale,
+                                            self._floor, tol)
+        out, at = self._walk(Q, bruteforce)
+        if tiny.any():
+            out[tiny] = self._locate_tiny(q[rows[tiny]], Q[tiny], at[tiny])
         found = np.full(len(q), -1, dtype=np.int64)
-        last = np.zeros(len(q), dtype=np.int64)
-        # NaN and points outside the bounding box are outside: no predicate
-        inside = ((q >= self.min_bound) & (q <= self.max_bound)).all(axis=1)
-        with np.errstate(all="ignore"):
-            scaled = q * self._scale
-            tiny = (q != 0.0) & (np.abs(scaled) < self._floor)
-        H = np.where(tiny, 0.0, scaled)  # the part of each query the frame holds exactly
-        rows = np.flatnonzero(inside)
+        found[rows] = out
+        if tol > 0:
+            self._locate_tolerant(q, tol, found, rows[out < 0], at[out < 0], near)
+        return found.astype(np.intc).reshape(shape)
+
+    def _walk(self, Q, bruteforce):
+        """(simplex of each row of Q or -1, the last simplex its search
+        visited), on the threads for many queries."""
         P, S, N = self._frame(), self.simplices, self.neighbors
-        Q = np.ascontiguousarray(H[rows])
-        out, at = np.empty(len(rows), dtype=np.int64), np.empty(len(rows), dtype=np.int64)
-        workers = self._workers()
-        chunks = workers.chunks(len(rows), min_chunk=4096)
+        out, at = np.empty(len(Q), dtype=np.int64), np.empty(len(Q), dtype=np.int64)
+        if len(Q) == 0:
+            return out, at
+        workers = self._workers() if len(Q) > 4096 else Workers(1)
+        chunks = workers.chunks(len(Q), min_chunk=4096)
         if bruteforce:
             B = simplex_boxes(P, S)
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
-            at[:] = np.maximum(out, 0)
+            np.maximum(out, 0, out=at)
         else:
-            order = grid_order(Q)
-            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, order[lo:hi], out, at))
-        found[rows], last[rows] = out, at
-        self._locate_tiny(q, H, tiny, inside, found, last)
-        if tol is not None and tol > 0:
-            self._locate_tolerant(q, float(tol), inside, found, last)
-        return found.astype(np.intc).reshape(shape)
+            order, jump = grid_order(Q), jump_sample(len(Q), len(S))
+            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, order[lo:hi], out, at,
+                                                              jump))
+        return out, at
 
-    def _locate_tolerant(self, q, tol, inside, found, last):
-        """scipy's tolerance for the queries outside every simplex: -1
-        beyond the bounding box widened by tol (scipy's first test), else
-        the best simplex near the hull facets the query sees.  A query
-        outside the box is first walked, clamped to the box, to the hull."""
-        near = ((q >= self.min_bound - tol) & (q <= self.max_bound + tol)).all(axis=1)
-        rows = np.flatnonzero((found < 0) & near)
+    def _locate_tolerant(self, q, tol, found, rows, start, near):
+        """scipy's tolerance for the queries outside every simplex: the
+        best simplex near the hull facets the query sees, from where its
+        walk left the hull (``start`` for ``rows``).  A query outside the
+        bounding box but within tol of it (``near``) is first walked,
+        clamped to the box, to the hull; one farther out stays -1, as
+        scipy's first test has it."""
+        if len(near):
+            Q = np.clip(q[near], self.min_bound, self.max_bound) * self._scale
+            rows, start = np.r_[rows, near], np.r_[start, self._walk(Q, False)[1]]
         if len(rows) == 0:
             return
-        boxed = rows[~inside[rows]]
-        if len(boxed):
-            Q = np.clip(q[boxed], self.min_bound, self.max_bound) * self._scale
-            out, at = np.empty(len(boxed), dtype=np.int64), np.empty(len(boxed), dtype=np.int64)
-            locate_walk(self._frame(), self.simplices, self.neighbors, Q,
-                        np.arange(len(boxed)), out, at)
-            last[boxed] = at
         tr = self.transform
-        for k in rows:
-            found[k] = locate_tolerant(self.simplices, self.neighbors, tr, q[k], tol, last[k])
+        for k, t in zip(rows, start):
+            found[k] = locate_tolerant(self.simplices, self.neighbors, tr, q[k], tol, t)
 
-    def _locate_tiny(self, q, H, tiny, inside, found, last):
-        """Queries with a component below the frame's floor: from where the
-        walk of their in-frame part ended, exactly (lfqt.location)."""
-        rows = np.flatnonzero(inside & tiny.any(axis=1))
-        if len(rows) == 0:
-            return
+    def _locate_tiny(self, q, H, start):
+        """Queries with a component below the frame's floor, exactly, from
+        where the walk of their in-frame part H ended (lfqt.location)."""
         S, N = self.simplices, self.neighbors
         if not tiny_frame_ok(self._exponent, self.ndim):
-            for k in rows:
-                found[k] = locate_rational(self.points, S, N, q[k])
-            return
-        Ls = np.where(tiny[rows], np.ldexp(q[rows], self._exponent + TINY_SHIFT), 0.0)
-        found[rows] = locate_tiny(self._frame(), S, N, np.ascontiguousarray(H[rows]),
-                                  np.ascontiguousarray(Ls), last[rows])
+            return np.array([locate_rational(self.points, S, N, x) for x in q], dtype=np.int64)
+        Ls = np.where(H == 0.0, np.ldexp(q, self._exponent + TINY_SHIFT), 0.0)
+        return locate_tiny(self._frame(), S, N, H, Ls, start)
 
     # -- incremental mode -------------------------------------------------
 

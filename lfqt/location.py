@@ -119,22 +119,90 @@ def _walk(P, S, N, qx, qy, qz, t, k):
 
 
 @njit(cache=True, nogil=True)
-def locate_walk(P, S, N, Q, order, out, last):
+def locate_walk(P, S, N, Q, order, out, last, sample):
     """Simplex of each query row of Q by the visibility walk, in the given
-    order of the rows, each walk starting from the previous answer; -1
-    outside.  ``last[k]`` is the last simplex query k's walk visited (where
-    an outside query left the hull).  A walk that exceeds its step budget
-    falls back to the brute force."""
+    order of the rows, each walk starting from the previous answer or, when
+    ``sample`` > 0, from the nearest of that many simplices spread over the
+    array (jump and walk, for queries too sparse for the previous answer to
+    be near); -1 outside.  ``last[k]`` is the last simplex query k's walk
+    visited (where an outside query left the hull).  A walk that exceeds
+    its step budget falls back to the brute force."""
     t = 0
     for r in range(order.shape[0]):
         k = order[r]
         qx, qy, qz = _query(Q, k)
+        if sample > 0:
+            t = _nearest_start(P, S, sample, qx, qy, qz, t)
         found, t = _walk(P, S, N, qx, qy, qz, t, r)
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
         out[k] = found
         last[k] = t
+
+
+def jump_sample(queries, simplices):
+    """How many simplices a walk's start is chosen from: none when the
+    queries are dense enough that, sorted, each starts near the previous
+    answer; else about m**(1/3), which balances the jump's distance tests
+    against the walk's expected length."""
+    if 8 * queries >= simplices:
+        return 0
+    return int(round(simplices ** (1.0 / 3.0)))
+
+
+@njit(cache=True, inline="always")
+def _nearest_start(P, S, sample, qx, qy, qz, t):
+    """t, or the simplex among ``sample`` evenly spaced ones (the mesh's
+    simplices lie in a spatial order) whose first vertex is nearer q."""
+    d = P.shape[1]
+    best = _distance2(P, S[t, 0], qx, qy, qz, d)
+    step = max(S.shape[0] // sample, 1)
+    for s in range(0, S.shape[0], step):
+        dd = _distance2(P, S[s, 0], qx, qy, qz, d)
+        if dd < best:
+            best, t = dd, s
+    return t
+
+
+@njit(cache=True, inline="always")
+def _distance2(P, v, qx, qy, qz, d):
+    dx, dy = P[v, 0] - qx, P[v, 1] - qy
+    dz = P[v, d - 1] - qz if d == 3 else 0.0
+    return dx * dx + dy * dy + dz * dz
+
+
+@njit(cache=True)
+def split_queries(q, lo, hi, scale, floor, tol):
+    """(rows of q inside the box [lo, hi], those rows in the frame with
+    every component the frame cannot hold zeroed, whether a row had one,
+    the rows outside the box but within ``tol`` of it): a NaN is outside,
+    and a component is tiny when it is nonzero but below ``floor`` once
+    scaled."""
+    n, d = q.shape
+    rows = np.empty(n, dtype=np.int64)
+    near = np.empty(n, dtype=np.int64)
+    H = np.empty((n, d))
+    tiny = np.zeros(n, dtype=np.bool_)
+    w = z = 0
+    for k in range(n):
+        inside = widened = True
+        for a in range(d):
+            inside &= lo[a] <= q[k, a] <= hi[a]
+            widened &= lo[a] - tol <= q[k, a] <= hi[a] + tol
+        if not inside:
+            if widened:
+                near[z] = k
+                z += 1
+            continue
+        rows[w] = k
+        for a in range(d):
+            v = q[k, a] * scale
+            small = q[k, a] != 0.0 and abs(v) < floor
+            H[w, a] = 0.0 if small else v
+            tiny[w] |= small
+        w += 1
+    return rows[:w], H[:w], tiny[:w], near[:z]
 
 
 def grid_order(Q):

@@ -169,3 +169,18 @@ def test_tolerance_never_scans_every_simplex(rng):
         assert t < 0 or within[t]
     assert (found >= 0).sum() > len(q) // 2
     assert (d.find_simplex(q) == -1).all()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_sparse_queries_jump_then_walk_and_answer_exactly(dim, rng):
+    """Few queries on a large mesh start from the nearest of about m**(1/3)
+    spread simplices (jump and walk) instead of the previous answer."""
+    pts = rng.random((6000, dim))
+    d = _built(pts)
+    q = np.r_[rng.random((30, dim)), [np.full(dim, 2.0)]]
+    assert location.jump_sample(len(q), d.nsimplex) > 0
+    assert location.jump_sample(d.nsimplex, d.nsimplex) == 0
+    found = d.find_simplex(q)
+    assert found[-1] == -1
+    for t, x in zip(found[:-1], q[:-1]):
+        assert t >= 0 and _contains(pts, d.simplices[t], x)
