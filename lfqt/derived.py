@@ -110,9 +110,8 @@ def hyperplanes(P, S, scale, shift, out, lo, hi):
             n3 = -(ux * (vy * wz - vz * wy) - uy * (vx * wz - vz * wx) + uz * (vx * wy - vy * wx))
             norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
             last = n3
-        if last > 0.0:
-            norm = -norm
-        n0, n1, n2, n3 = n0 / norm, n1 / norm, n2 / norm, n3 / norm
+        r = -np.copysign(1.0 / norm, last)  # unit length, last component down
+        n0, n1, n2, n3 = n0 * r, n1 * r, n2 * r, n3 * r
         out[t, 0] = n0
         out[t, 1] = n1
         out[t, 2] = n2
