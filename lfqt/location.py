@@ -46,7 +46,7 @@ from .predicates.expansion import (cross_exact, exact_diff, expansion_product, e
 from .predicates.planar import CCW_A, orient2d_staged
 from .predicates.spatial import O3D_A, orient3d_staged
 
-TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in _tiny_frame_ok)
+TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in tiny_frame_ok)
 HULL_FACETS = 64  # hull facets a tolerant query looks at, at most
 STAR = 512        # simplices around one vertex, at most (a 3D star has about 27)
 SEEN = 4096       # simplices a tolerant query evaluates, at most
@@ -444,7 +444,7 @@ def _barycentric_min(Tr, t, x):
             low, at = c, j
     if last < low:
         low, at = last, d
-    if low != low:
+    if last != last:  # NaN rows of T^-1 make every coordinate NaN, the last one too
         return np.nan, -1
     return low, at
 

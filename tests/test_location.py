@@ -184,3 +184,20 @@ def test_sparse_queries_jump_then_walk_and_answer_exactly(dim, rng):
     assert found[-1] == -1
     for t, x in zip(found[:-1], q[:-1]):
         assert t >= 0 and _contains(pts, d.simplices[t], x)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_tolerance_never_answers_a_simplex_too_flat_for_its_transform(dim):
+    """A sliver on the hull has a NaN transform: a query just outside it
+    gets a simplex whose coordinates are within tol, never the sliver."""
+    pts = np.r_[np.eye(dim), np.zeros((1, dim)), [np.full(dim, 1.0 / dim) * (1 - 1e-13)]]
+    d = _built(pts)
+    flat = np.isnan(d.transform[:, :-1, :]).any(axis=(1, 2))
+    assert flat.any()
+    q = np.full(dim, 1.0 / dim) + 1e-12
+    t = d.find_simplex(q, tol=1e-6)
+    assert t == -1 or not flat[t]
+    if t >= 0:
+        T = d.transform[t]
+        c = T[:-1] @ (q - T[-1])
+        assert (np.r_[c, 1 - c.sum()] >= -1e-6).all()
