@@ -386,9 +386,12 @@ class Delaunay:
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
         else:
+            # the queries gathered in curve order, so that the walks read and write in a run
             order, jump = grid_order(Q), jump_sample(len(Q), len(S))
-            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, order[lo:hi], out, at,
+            Qs, found, last = Q[order], np.empty_like(out), np.empty_like(at)
+            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
                                                               jump))
+            out[order], at[order] = found, last
         return out, at
 
     def _locate_tolerant(self, q, tol, found, rows, start, near):

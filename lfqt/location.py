@@ -45,6 +45,8 @@ from .predicates.expansion import (cross_exact, exact_diff, expansion_product, e
                                    scale_expansion)
 from .predicates.planar import CCW_A, orient2d_staged
 from .predicates.spatial import O3D_A, orient3d_staged
+from .radix import sort_keys
+from .workers import Workers
 
 TINY_SHIFT = 600  # K above: the tiny parts' scale-up (derivation in tiny_frame_ok)
 HULL_FACETS = 64  # hull facets a tolerant query looks at, at most
@@ -119,21 +121,21 @@ def _walk(P, S, N, qx, qy, qz, t, k):
 
 
 @njit(cache=True, nogil=True)
-def locate_walk(P, S, N, Q, order, out, last, sample):
-    """Simplex of each query row of Q by the visibility walk, in the given
-    order of the rows, each walk starting from the previous answer or, when
-    ``sample`` > 0, from the nearest of that many simplices spread over the
-    array (jump and walk, for queries too sparse for the previous answer to
-    be near); -1 outside.  ``last[k]`` is the last simplex query k's walk
-    visited (where an outside query left the hull).  A walk that exceeds
-    its step budget falls back to the brute force."""
+def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
+    """Simplex of each query row lo:hi of Q by the visibility walk, in row
+    order (sort the rows along a curve first: ``grid_order``), each walk
+    starting from the previous answer or, when ``sample`` > 0, from the
+    nearest of that many simplices spread over the array (jump and walk,
+    for queries too sparse for the previous answer to be near); -1
+    outside.  ``last[k]`` is the last simplex query k's walk visited (where
+    an outside query left the hull).  A walk that exceeds its step budget
+    falls back to the brute force."""
     t = 0
-    for r in range(order.shape[0]):
-        k = order[r]
+    for k in range(lo, hi):
         qx, qy, qz = _query(Q, k)
         if sample > 0:
             t = _nearest_start(P, S, sample, qx, qy, qz, t)
-        found, t = _walk(P, S, N, qx, qy, qz, t, r)
+        found, t = _walk(P, S, N, qx, qy, qz, t, k)
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
@@ -207,11 +209,13 @@ def split_queries(q, lo, hi, scale, floor, tol):
 
 def grid_order(Q):
     """An order of the query rows along the Morton curve of a grid over
-    their bounding box, so that each walk starts near its answer."""
+    their bounding box, so that each walk starts near its answer (lfqt's
+    radix sort of the keys)."""
+    order = np.arange(len(Q), dtype=np.int64)
     if len(Q) < 64:
-        return np.arange(len(Q), dtype=np.int64)
-    return np.argsort(_grid_keys(Q, 16 if Q.shape[1] == 2 else 21),
-                      kind="stable")
+        return order
+    keys = _grid_keys(Q, 16 if Q.shape[1] == 2 else 21)
+    return sort_keys(keys, order, Workers(1))[1]
 
 
 @njit(cache=True, nogil=True)
