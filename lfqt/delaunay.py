@@ -3,6 +3,7 @@ lfqt's exact triangulations (the LFQT divide and conquer in 2D, incremental
 insertion in 3D), with exact point location (lfqt.location)."""
 from __future__ import annotations
 
+import os
 import warnings
 from typing import Any
 
@@ -226,7 +227,9 @@ class Delaunay:
         return self._cached("frame", lambda: self.points * self._scale)
 
     def _workers(self):
-        return Workers(self._options.get("threads") or 1)
+        """The build's thread count (None: every core, as lfqt.triangulate)."""
+        threads = self._options.get("threads", 1)
+        return Workers(os.cpu_count() or 1 if threads is None else threads)
 
     def _cached(self, name, build):
         if name not in self._cache:
