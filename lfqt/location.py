@@ -41,8 +41,8 @@ from fractions import Fraction
 import numpy as np
 from numba import njit
 
-from .predicates.expansion import (cross_exact, exact_diff, expansion_product, expansion_sum,
-                                   scale_expansion)
+from .predicates.expansion import (EPS, cross_exact, exact_diff, expansion_product,
+                                   expansion_sum, scale_expansion)
 from .predicates.planar import CCW_A, orient2d_staged
 from .predicates.spatial import O3D_A, orient3d_staged
 from .radix import sort_keys
@@ -366,9 +366,45 @@ def _dot(G, glen, x, base):
     return acc, alen
 
 
+@njit(cache=True, inline="always")
+def _tiny_filter(P, S, t, i, H, Ls):
+    """The sign ``_beyond_tiny`` tests, from floats, when E1's estimate
+    clears its rounding error (a generous 32 eps of its permanent; the
+    operands lie in the frame, so nothing underflows) and twice a bound on
+    |E2| (the normal's permanent times |L|, compared at the scale of Ls);
+    0 when that does not decide, and the expansions do."""
+    if P.shape[1] == 2:
+        a, b = S[t, (i + 1) % 3], S[t, (i + 2) % 3]
+        g0, g1, g2 = P[a, 1] - P[b, 1], P[b, 0] - P[a, 0], 0.0
+        p0, p1, p2 = abs(g0), abs(g1), 0.0
+        sign = 1.0
+        ax, ay, az = P[a, 0], P[a, 1], 0.0
+        hz, lz = 0.0, 0.0
+    else:
+        a, b, c = S[t, 1 if i == 0 else 0], S[t, 2 if i <= 1 else 1], S[t, 3 if i <= 2 else 2]
+        ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
+        ux, uy, uz = P[b, 0] - ax, P[b, 1] - ay, P[b, 2] - az
+        vx, vy, vz = P[c, 0] - ax, P[c, 1] - ay, P[c, 2] - az
+        g0, p0 = uy * vz - uz * vy, abs(uy * vz) + abs(uz * vy)
+        g1, p1 = uz * vx - ux * vz, abs(uz * vx) + abs(ux * vz)
+        g2, p2 = ux * vy - uy * vx, abs(ux * vy) + abs(uy * vx)
+        sign = -1.0 if i % 2 == 0 else 1.0
+        hz, lz = H[2], Ls[2]
+    dx, dy, dz = H[0] - ax, H[1] - ay, hz - az
+    e1 = dx * g0 + dy * g1 + dz * g2
+    clear = abs(e1) - 32.0 * EPS * (abs(dx) * p0 + abs(dy) * p1 + abs(dz) * p2)
+    e2 = (1.0 + 2.0 ** -40) * (p0 * abs(Ls[0]) + p1 * abs(Ls[1]) + p2 * abs(lz))
+    if clear > 2.0 ** -900 and clear * 2.0 ** TINY_SHIFT > 2.0 * e2:
+        return sign * e1
+    return 0.0
+
+
 @njit(cache=True)
 def _beyond_tiny(P, S, t, i, H, Ls):
     """``_beyond`` for q = H + Ls * 2**-TINY_SHIFT (module docstring)."""
+    quick = _tiny_filter(P, S, t, i, H, Ls)
+    if quick != 0.0:
+        return quick < 0.0
     G, glen, sign, a = _normal(P, S, t, i)
     e1, n1 = _dot(G, glen, H, P[a])
     e2, n2 = _dot(G, glen, Ls, None)
