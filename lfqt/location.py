@@ -62,13 +62,25 @@ def _vertex(P, v, qx, qy, qz, replaced):
 
 
 @njit(cache=True, inline="always")
+def _edge(S, t, i):
+    """The edge of triangle t opposite vertex i, counter-clockwise: (a, b)
+    with orient(a, b, q) < 0 when q lies beyond it."""
+    return S[t, i + 1 if i < 2 else 0], S[t, i + 2 if i < 1 else i - 1]
+
+
+@njit(cache=True, inline="always")
+def _others(S, t, i):
+    """The vertices of tetrahedron t but vertex i, in slot order."""
+    return S[t, 1 if i == 0 else 0], S[t, 2 if i <= 1 else 1], S[t, 3 if i <= 2 else 2]
+
+
+@njit(cache=True, inline="always")
 def _beyond(P, S, t, i, qx, qy, qz):
     """True when q lies strictly beyond the facet of simplex t opposite
     vertex i.  Scalars only: an array argument here would cost an atomic
     reference-count update per test (lfqt.predicates.planar)."""
     if P.shape[1] == 2:
-        a = S[t, i + 1 if i < 2 else 0]
-        b = S[t, i + 2 if i < 1 else i - 1]
+        a, b = _edge(S, t, i)
         o, _ = orient2d_staged(P[a, 0], P[a, 1], P[b, 0], P[b, 1], qx, qy, CCW_A)
         return o < 0.0
     ax, ay, az = _vertex(P, S[t, 0], qx, qy, qz, i == 0)
@@ -321,13 +333,13 @@ def _normal(P, S, t, i):
     G = np.zeros((d, 16))
     glen = np.zeros(d, dtype=np.int64)
     if d == 2:
-        a, b = S[t, (i + 1) % 3], S[t, (i + 2) % 3]  # orient(a, b, q) = (q - a).(ay - by, bx - ax)
+        a, b = _edge(S, t, i)  # orient(a, b, q) = (q - a).(ay - by, bx - ax)
         _put(G, glen, 0, exact_diff(P[a, 1], P[b, 1]))
         _put(G, glen, 1, exact_diff(P[b, 0], P[a, 0]))
         return G, glen, 1.0, a
     # det[w1 - w0, w2 - w0, w3 - w0] with q in slot i is (-1)**(i + 1) (q - a).((b - a) x (c - a))
     # for the other vertices a, b, c in slot order: moving q to slot 0 takes i transpositions.
-    a, b, c = S[t, 1 if i == 0 else 0], S[t, 2 if i <= 1 else 1], S[t, 3 if i <= 2 else 2]
+    a, b, c = _others(S, t, i)
     ux, uxl = exact_diff(P[b, 0], P[a, 0])
     uy, uyl = exact_diff(P[b, 1], P[a, 1])
     uz, uzl = exact_diff(P[b, 2], P[a, 2])
@@ -374,14 +386,14 @@ def _tiny_filter(P, S, t, i, H, Ls):
     |E2| (the normal's permanent times |L|, compared at the scale of Ls);
     0 when that does not decide, and the expansions do."""
     if P.shape[1] == 2:
-        a, b = S[t, (i + 1) % 3], S[t, (i + 2) % 3]
+        a, b = _edge(S, t, i)
         g0, g1, g2 = P[a, 1] - P[b, 1], P[b, 0] - P[a, 0], 0.0
         p0, p1, p2 = abs(g0), abs(g1), 0.0
         sign = 1.0
         ax, ay, az = P[a, 0], P[a, 1], 0.0
         hz, lz = 0.0, 0.0
     else:
-        a, b, c = S[t, 1 if i == 0 else 0], S[t, 2 if i <= 1 else 1], S[t, 3 if i <= 2 else 2]
+        a, b, c = _others(S, t, i)
         ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
         ux, uy, uz = P[b, 0] - ax, P[b, 1] - ay, P[b, 2] - az
         vx, vy, vz = P[c, 0] - ax, P[c, 1] - ay, P[c, 2] - az
@@ -469,6 +481,17 @@ def locate_tiny(P, S, N, H, Ls, start):
 # -- scipy's tolerance, near the hull ----------------------------------------
 
 @njit(cache=True, inline="always")
+def _coordinate(Tr, t, j, x):
+    """Barycentric coordinate j < d of x in simplex t (scipy's transform);
+    the last one is 1 minus the others."""
+    d = Tr.shape[2]
+    c = 0.0
+    for a in range(d):
+        c += Tr[t, j, a] * (x[a] - Tr[t, d, a])
+    return c
+
+
+@njit(cache=True, inline="always")
 def _barycentric_min(Tr, t, x):
     """(smallest barycentric coordinate of x in simplex t, its vertex);
     NaN for a simplex too flat for its transform."""
@@ -476,9 +499,7 @@ def _barycentric_min(Tr, t, x):
     last = 1.0
     low, at = np.inf, -1
     for j in range(d):
-        c = 0.0
-        for a in range(d):
-            c += Tr[t, j, a] * (x[a] - Tr[t, d, a])
+        c = _coordinate(Tr, t, j, x)
         last -= c
         if c < low:
             low, at = c, j
@@ -586,14 +607,11 @@ def _facet_coordinate(Tr, t, i, x):
     """Barycentric coordinate of x for vertex i of t (< 0: x sees the
     facet opposite i)."""
     d = Tr.shape[2]
+    if i < d:
+        return _coordinate(Tr, t, i, x)
     total = 0.0
     for j in range(d):
-        c = 0.0
-        for a in range(d):
-            c += Tr[t, j, a] * (x[a] - Tr[t, d, a])
-        if j == i:
-            return c
-        total += c
+        total += _coordinate(Tr, t, j, x)
     return 1.0 - total
 
 
