@@ -135,7 +135,7 @@ def _scan_bits(ints, lo, hi, mask, inf):
     ``mask`` when all are zero).  With the sign bit cleared, the patterns of
     finite floats are ordered as their magnitudes, so the loop is integer
     compares, which vectorize (float min and max do not, for NaN's sake:
-    1M points, 3.1 -> 0.65 ms)."""
+    docs/performance.md, "magnitude scan")."""
     nonfinite = False
     big = mask - mask
     small = mask

@@ -77,9 +77,8 @@ def interleave(x32, y32):
 # perm[i] = i, and run the input's scan for NaN, inf and the extreme
 # magnitudes (lfqt._input._scan_bits) on each block of SCAN_BLOCK points
 # just before its keys, while the block is in L1: one pass over the input
-# instead of three, with each loop still vectorized (1M float64 points, one
-# thread: scan 0.55 + iota 0.16 + keys 1.51 -> 1.83 ms; the scan folded
-# into the keys' loop, 4.5 ms).
+# instead of three, with each loop still vectorized; folding the scan into
+# the keys' loop itself was slower (docs/performance.md, "keys' pass").
 SCAN_BLOCK = 512
 
 
@@ -126,8 +125,8 @@ def morton_high64_into(bits, khi, perm, lo, hi):
     """The high 64 bits alone of the keys of float64 points [lo, hi), perm[i]
     = i; returns the scan as morton_keys32_into.  The low bits tell apart
     only keys whose high bits are equal, rare on float64 input, and
-    ``low_word`` gives them on demand (1M points, cold input: 5.6 -> 3.0 ms
-    without writing 8 MB of low words)."""
+    ``low_word`` gives them on demand, without writing the low words
+    (docs/performance.md, "high words")."""
     flat = bits.reshape(-1)
     scan = False, _MASK64 - _MASK64, _MASK64
     for b0 in range(lo, hi, SCAN_BLOCK):

@@ -278,10 +278,9 @@ def _longest_axis(X, lo, hi):
 
 
 # Kd subtrees of at most this many points are built from their points sorted
-# along every axis (_presorted_subtree), larger nodes by selection.  Measured
-# on 1M uniform points, the whole in-order: 143 -> 95 ms in 2D and 163 -> 150
-# ms in 3D at 2**14; 2**10, 2**12 and 2**16 were slower (2**16 no longer stays
-# in a core's cache).
+# along every axis (_presorted_subtree), larger nodes by selection.  2**14
+# was the fastest size measured; 2**16 no longer stays in a core's cache
+# (docs/performance.md, "presorted subtrees").
 PRESORTED = 1 << 14
 _KEY_BITS = 32  # of the coordinates' varying bits, sorted by radix (_sorted_lists)
 
@@ -309,9 +308,8 @@ def _sorted_lists(X, ids, lo0, s, ws):
     each k's place in that list.  A radix sort, stable, of the values'
     order-preserving bits (-0.0 like 0.0) cut to the highest _KEY_BITS
     that vary among them, then the rare runs of equal keys insertion-sorted
-    by value and id.  (A subtree of 2**14 uniform points: 4 scatters per
-    axis instead of 6 to 8; 1M points, the in-order 86 -> 78 ms in 2D, 129
-    -> 119 ms in 3D.)"""
+    by value and id: fewer scatters per axis (docs/performance.md, "cut
+    keys")."""
     d = X.shape[1]
     keys = ws.keys
     for a in range(d):
@@ -758,8 +756,8 @@ def layout(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "p
     and ``stored``, the points (float64 rows) in that order, which the Kd
     orders leave behind for free.  ``store`` is int32 below 2**31 points
     (index_dtype): the output maps every vertex of every cell through it, at
-    random, and half the bytes miss the cache half as often (finite_cells at
-    1M 2D: 33 -> 25 ms).
+    random, and half the bytes miss the cache half as often
+    (docs/performance.md, "int32 store").
 
     Parameters and ``perm``, ``hint``: as ``order``'s.
 

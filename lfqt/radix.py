@@ -56,8 +56,8 @@ def histograms(keys, lo, hi, counts, digits):
 def digit_counts(keys, lo, hi, shift, counts):
     """counts (256,) of the digit at ``shift`` in keys[lo:hi], in four
     partial histograms: on skewed digits (the exponent bits of one binade)
-    one counter would chain every increment on the last (10M uniform keys:
-    a constant digit 26 -> 11 ms, one of three values 24 -> 6 ms)."""
+    one counter would chain every increment on the last (docs/performance.md,
+    "partial histograms")."""
     part = np.zeros((4, 256), dtype=np.int64)
     sh = np.uint64(shift)
     i = lo

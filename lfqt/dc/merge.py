@@ -515,8 +515,8 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     # Call counts and each side's state live in scalars, not in small arrays:
     # the stores to T may alias any array, which would cost reloads.  The
     # calls stage 1 leaves undecided are rare and counted in ``counts`` on a
-    # branch: as four more scalars they cost registers in every step (1M
-    # uniform, merge 235 -> 217 ms with the same counts).
+    # branch: as four more scalars they cost registers in every step
+    # (docs/performance.md, "merge counters").
     o_calls = i_calls = 0
     top = -1
     for i in range(n_in):
@@ -579,8 +579,8 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         # the side that advanced loads it again: a cross edge writes the
         # vertices of A and the new A and link entries, never the other
         # side's ghost, candidate or the vertex beyond, so that side's chain
-        # of dependent loads leaves the critical path (1M uniform, merge
-        # 145 -> 129.5 ms, same predicate counts).  The advancing side's next
+        # of dependent loads leaves the critical path (docs/performance.md,
+        # "merge's idle side").  The advancing side's next
         # state cannot be loaded ahead: the cross edge may become the real
         # triangle beyond its next ghost.
         gl, cl, clx, cly, xl, xlx, xly = _side(T, P, A, B, 0)

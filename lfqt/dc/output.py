@@ -11,9 +11,9 @@ result never coexist (peak memory, lfqt.dc._output):
    duplicates' merges are unused, so the m real triangles fit in the first
    m slots: each one above moves into a ghost's or an unused slot below,
    found from the ring and the merges' codes, not from a pass over T.  A
-   slot is then its output row, and a twin, shifted, its neighbour's (1M
-   points, one thread: the output 18.4 -> 9.8 ms against ranks from a
-   bitmap of the real slots and a popcount);
+   slot is then its output row, and a twin, shifted, its neighbour's, with
+   no rank from a bitmap of the real slots and a popcount
+   (docs/performance.md, "output without ranks");
 2. ``write_rows``: in one pass over T, the vertex rows, in input indices,
    to a new array, and each chunk's neighbour rows packed at the start of
    its own part of T.  Row k of a chunk lands at 3k to 3k + 2,

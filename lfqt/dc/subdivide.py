@@ -107,7 +107,7 @@ def subdivide_lfqt(gaps, lo, hi, ops, nops):
     s_bit = np.empty(STACK + 1, dtype=np.int64)
     # A sentinel that no bit exceeds spares the pops a bound check, and
     # unsigned indices (lfqt.indexing.u) numba's wraparound of negative ones
-    # (1M uniform: 6.0 -> 5.4 ms; the sentinel with signed indices, 7.2 ms).
+    # (docs/performance.md, "subdivide's stack").
     s_bit[0] = DUP
     top = 0  # open splits from 1 up, bits strictly decreasing upwards
     ops[u(nops)] = -(lo + 1)

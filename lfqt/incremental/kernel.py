@@ -711,8 +711,8 @@ def _insert_all(P, d, planar, spatial, perm, hint, span, cells, dup_of, max_cell
     ``planar`` and ``spatial`` tell numba the dimension: one is None, the
     other True.  numba drops a branch on an argument typed None before it
     types the rest, so a call compiles only its own dimension's range
-    kernel; with a branch on d it compiled both (a first 3D call with a
-    cold cache: 47 -> 32 s).  A kernel passed as an argument would do the
+    kernel; with a branch on d it compiled both (docs/performance.md,
+    "insertion's first call").  A kernel passed as an argument would do the
     same, but numba does not cache a function that takes one."""
     counts = np.zeros(N_INSERT, dtype=np.int64)
     width = d + 1
@@ -818,7 +818,8 @@ def _finite_bitmap(C, mark):
 # Cells come in the order they were made, which follows the insertion order
 # across space, so the vertex ids of one cell and the next are far apart in
 # ``ids``: the cell OUTPUT_AHEAD rows on asks for two of its vertices' entries
-# (the third shares their cache lines, mostly).  1M points, 2D: 38 -> 25 ms.
+# (the third shares their cache lines, mostly; docs/performance.md,
+# "output prefetch").
 OUTPUT_AHEAD = 32
 
 
