@@ -40,6 +40,9 @@ class Peer:
     bytes_per_point = 300  # a generous peak-memory estimate, to skip what cannot fit
     triangulates = True  # False for a peer that times one phase alone (lfqt-radix)
     install = ""  # what to do when check() fails
+    # True in the fresh regime (drivers.isolate.REGIMES): prepare() must not
+    # warm anything up, so that the timed run is the process's first call
+    cold = False
 
     @property
     def dims(self):
@@ -75,6 +78,12 @@ class Peer:
     def run(self):
         """The timed operation."""
         raise NotImplementedError
+
+    def keep(self):
+        """Hold the last run's output alive until the measurement ends (the
+        kept regime).  A peer whose output lives in this process overrides
+        this with the whole object a user would hold."""
+        self.kept = getattr(self, "kept", []) + [self.result()]
 
     def self_timing(self):
         """(seconds, cycles or None) measured by the peer itself, or None."""
@@ -141,6 +150,10 @@ class CompiledPeer(Peer):
 
     def self_timing(self):
         return self.report["seconds"] + self.extra_seconds, self.report["tsc_cycles"]
+
+    def keep(self):
+        """Nothing to hold: each run is a driver process of its own, which
+        allocates afresh and exits, so every regime times a first call."""
 
     def self_memory(self):
         """Peak resident bytes of the driver above its state after loading."""

@@ -49,10 +49,28 @@ class Failure:
         return False
 
 
+# How a run is timed (issue 50: where a user calls the library):
+#   loop   a warm process, each result dropped before the next run
+#          (paper 1's steady state);
+#   kept   a warm process, every result held until the measurement ends (a
+#          program that keeps what it computes: fresh pages on every call);
+#   fresh  a new interpreter that has imported the peer and never run it:
+#          one timed first call per process (kernels loaded, nothing warm).
+# A compiled driver (CGAL, triangle-native) runs each call in a process of
+# its own, so each of its runs is a first call in every regime; it times
+# itself inside that process, after reading its input.
+REGIMES = ("loop", "kept", "fresh")
+
+
 def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,
-            warmup=True, on_prepared=None):
+            warmup=True, on_prepared=None, regime="loop"):
     """Prepare once (``on_prepared()`` is called then), warm up (not
-    counted), then time ``repeats`` runs."""
+    counted), then time ``repeats`` runs, in ``regime`` (REGIMES; fresh
+    means no warm-up at all and one run)."""
+    if regime not in REGIMES:
+        raise ValueError(f"unknown regime {regime!r}; known: {', '.join(REGIMES)}")
+    if regime == "fresh":
+        peer.cold, warmup, repeats = True, False, 1
     peer.check()
     peer.prepare(points, order=order, count=count)
     if on_prepared:
@@ -67,6 +85,8 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
         peer.run()
         wall = time.perf_counter() - t0
         c1 = read_cycles()
+        if regime == "kept":
+            peer.keep()
         own = peer.self_timing()
         seconds.append(own[0] if own else wall)
         # raw cycles: the peer's own (CGAL driver's TSC) or ours around run()
@@ -134,8 +154,11 @@ def measure_isolated(peer, points, *, timeout=600.0, prepare_timeout=None, memor
     preparation; the preparation gets ``prepare_timeout`` (default: the
     larger of ``timeout`` and PREPARE_SECONDS), so that a cold JIT cache is
     not recorded as the peer's timeout, and a peer that is slow on the
-    input still is one."""
-    ctx = mp.get_context("fork")
+    input still is one.  In the fresh regime the child is a new interpreter
+    (spawned, not forked), so that nothing this process compiled or warmed
+    is in it."""
+    fresh = kwargs.get("regime") == "fresh"
+    ctx = mp.get_context("spawn" if fresh else "fork")
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, peer, np.asarray(points), kwargs, memory_bytes,
                                             os.getpid()))

@@ -19,10 +19,14 @@ LEAF_SIZES = [16, 64, 256, 1024, 4096, 16384, 65536, 262144, 1048576]
 WARMUP_POINTS = 1 << 17
 
 
-def _warmed(build):
+def _warmed(peer, build):
     """Run ``build()`` (a warm-up call), then unmap what it left idle in
     lfqt.workspace, so that the baseline the runs are measured from holds
-    none of it: the first run maps its memory afresh, inside its peak."""
+    none of it: the first run maps its memory afresh, inside its peak.
+    Nothing at all for a cold peer (the fresh regime: the timed run is the
+    process's first call)."""
+    if peer.cold:
+        return
     build()
     lfqt.workspace.release()
 
@@ -38,6 +42,12 @@ class _Ours(Peer):
     """What every peer of ours shares: the family, lfqt's version and the
     numba build that compiled it."""
     family = "ours"
+
+    def keep(self):
+        """The whole Triangulation, as a user holds it, not only its simplices."""
+        if not hasattr(self, "tri"):
+            return super().keep()
+        self.kept = getattr(self, "kept", []) + [self.tri]
 
     def version(self):
         return lfqt.__version__
@@ -75,7 +85,7 @@ class LfqtDC(_Ours):
         # counts come with every run: the kernels count anyway (free)
         self.points = np.ascontiguousarray(points)
         self.tri = None
-        _warmed(lambda: lfqt.triangulate(self.points[:WARMUP_POINTS], threads=self.threads,
+        _warmed(self, lambda: lfqt.triangulate(self.points[:WARMUP_POINTS], threads=self.threads,
                                          subdivision=self.subdivision, **self._method()))
 
     def _method(self):
@@ -105,7 +115,7 @@ class LfqtInsert(_Ours):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.dim = self.points.shape[1]
         self.tri = None
-        _warmed(lambda: lfqt.insert(self.points[:64], order=self.order))  # JIT warm-up
+        _warmed(self, lambda: lfqt.insert(self.points[:64], order=self.order))  # JIT warm-up
 
     def run(self):
         self.tri = None
@@ -136,7 +146,8 @@ class LfqtRadixSort(_Ours):
         self.keys = ordered_bits(x).astype(np.uint64)
         self.sort = sort_keys
         self.workers = Workers(self.threads)
-        self.sort(self.keys[:64].copy(), np.arange(64, dtype=np.int32), self.workers)
+        if not self.cold:
+            self.sort(self.keys[:64].copy(), np.arange(64, dtype=np.int32), self.workers)
 
     def run(self):
         keys, perm = self.keys.copy(), np.arange(len(self.keys), dtype=np.int32)
@@ -168,7 +179,8 @@ class LfqtOrder(_Ours):
         from lfqt import orders
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.build = orders.order
-        self.build(self.points[:64], self.order)  # JIT warm-up
+        if not self.cold:
+            self.build(self.points[:64], self.order)  # JIT warm-up
 
     def run(self):
         self.perm = None

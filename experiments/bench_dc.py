@@ -33,6 +33,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from drivers.isolate import REGIMES
+
 from . import results
 from .experiment import Experiment, figure_paths, label_ends
 from .runner import Cell
@@ -49,6 +51,9 @@ PEERS = ["lfqt-dc", "lfqt-dc-alternating", "triangle-native", "triangle", "cgal-
 # bench's 25 minutes, so the default grid measures it at 100k only.
 QHULL_MAX = {"smoke": 1_000_000, "default": 100_000, "paper": 1_000_000}
 REFERENCE = "lfqt-dc"
+REGIME_TEXT = {"loop": "a warm process, each result dropped",
+               "kept": "a warm process, every result kept alive",
+               "fresh": "a new process's first call, after import"}
 # peer time / lfqt time that the performance work (issue 18) aims at, against
 # each family's fastest variant (results.VARIANTS_2D), by (set, size)
 TARGETS = {"CGAL": {("uniform", 100_000): 2.5, ("uniform", 1_000_000): 2.5,
@@ -110,15 +115,34 @@ def setup(args, out_dir):
 
 
 def plot(df, out):
-    import matplotlib.pyplot as plt
+    """Per regime (drivers.isolate.REGIMES): the table of ratios, and a
+    figure (bench_dc.png for the loop regime, bench_dc-<regime>.png for the
+    others)."""
+    paths = []
+    for regime in [r for r in REGIMES if r in set(df["regime"])]:
+        part = df[df["regime"] == regime]
+        print(f"\n== regime: {regime} ({REGIME_TEXT[regime]}) ==")
+        _table(part)
+        paths += _figure(part, out, regime)
+    compile_file = Path(out) / "bench_dc" / "compile.json"
+    if compile_file.exists():
+        c = json.loads(compile_file.read_text())
+        print(f"first calls incl. JIT: cold cache {c['compile_cold_s']:.1f} s, "
+              f"warm cache {c['compile_cached_s']:.1f} s")
+    return paths
+
+
+def _shape(df):
+    """(summary, sets, sizes, peers, cell lookup) of one regime's results."""
     s = results.summarize(df)
     dists = [d for d in DISTS["paper"] if d in set(df["distribution"])]
     ns = sorted(df["n"].unique())
     peers = [p for p in PEERS if p in set(df["peer"])]
+    return s, dists, ns, peers, lambda peer, dist, n: results.cell(s, peer, dist, n, False)
 
-    def cell(peer, dist, n):
-        return results.cell(s, peer, dist, n, False)
 
+def _table(df):
+    s, dists, ns, peers, cell = _shape(df)
     print(f"\n{'set':8} {'n':>10} {'peer':20} {'median s':>9} {'min s':>8} {'peer/lfqt':>9} "
           f"{'by round':>9} {'Mpt/s':>6} {'B/pt':>5}   (peer/lfqt > 1: lfqt is faster; medians "
           "pooled over rounds, and the median of the rounds' own ratios)")
@@ -153,12 +177,11 @@ def plot(df, out):
         if len(rates) > 1:
             print(f"{REFERENCE} rate on {dist}: {min(rates):.2f} to {max(rates):.2f} Mpt/s "
                   f"(max/min {max(rates) / min(rates):.2f}; target <= 1.25)")
-    compile_file = Path(out) / "bench_dc" / "compile.json"
-    if compile_file.exists():
-        c = json.loads(compile_file.read_text())
-        print(f"first calls incl. JIT: cold cache {c['compile_cold_s']:.1f} s, "
-              f"warm cache {c['compile_cached_s']:.1f} s")
 
+
+def _figure(df, out, regime):
+    import matplotlib.pyplot as plt
+    s, dists, ns, peers, cell = _shape(df)
     fig, axes = plt.subplots(2, len(dists), figsize=(5 * len(dists), 7.5), squeeze=False,
                              sharex=True)
     colors = dict(zip(PEERS, ["#1f77b4", "#17becf", "#d62728", "#ff9896", "#2ca02c", "#98df8a",
@@ -193,15 +216,17 @@ def plot(df, out):
         label_ends(bottom, ends)  # widens the shared x axis for the labels
         if k == 0:
             top.legend(fontsize=8)
-    fig.suptitle("lfqt-dc against the 2D peers, same input, same run (dotted: issue 18's "
-                 "targets against each family's fastest variant)")
+    fig.suptitle(f"lfqt-dc against the 2D peers, same input, same run, {regime} regime: "
+                 f"{REGIME_TEXT[regime]}\n(dotted: issue 18's targets against each family's "
+                 "fastest variant)")
     fig.tight_layout()
-    return figure_paths(fig, out, "bench_dc")
+    return figure_paths(fig, out, "bench_dc" if regime == "loop" else f"bench_dc-{regime}")
 
 
 EXPERIMENT = Experiment("bench_dc", "lfqt-dc against every 2D peer, same input, same run, "
                         "interleaved rounds", grid, plot, repeats=3, rounds=3,
-                        options=(("--no-compile-time", dict(action="store_true")),), setup=setup)
+                        options=(("--no-compile-time", dict(action="store_true")),), setup=setup,
+                        regimes=REGIMES)
 main = EXPERIMENT.main
 
 

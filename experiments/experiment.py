@@ -5,7 +5,7 @@ import argparse
 import math
 import os
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -43,6 +43,9 @@ class Experiment:
     # args -> more entries of the metadata sidecar, measured before the grid
     # (fig6: this machine's own thread scaling, experiments.probe)
     metadata: Callable = None
+    # the regimes (drivers.isolate.REGIMES) the plot tells apart; --regime
+    # takes any of them, and the grid is measured once per regime asked for
+    regimes: tuple = ("loop",)
 
     @property
     def command(self):
@@ -62,6 +65,11 @@ class Experiment:
                                      f"not in this experiment's {args.scale} grid (it has "
                                      f"{', '.join(map(str, sorted(known)))})")
                 cells = [c for c in cells if getattr(c, field) in wanted]
+        unknown = [r for r in args.regime if r not in self.regimes]
+        if unknown:
+            raise SystemExit(f"{self.command}: --regime {','.join(unknown)} is not measured by "
+                             f"this experiment (it has {', '.join(self.regimes)})")
+        cells = [replace(c, regime=r) for r in args.regime for c in cells]
         for c in cells:
             try:
                 runner.check(c)
@@ -88,6 +96,9 @@ class Experiment:
                         help="keep only these sizes of the scale's grid, e.g. 1e5,1e6")
         ap.add_argument("--dists", type=lambda s: s.split(","),
                         help="keep only these distributions, comma separated")
+        ap.add_argument("--regime", type=lambda s: s.split(","), default=["loop"],
+                        help="comma separated: loop (a warm process, each result dropped), kept "
+                             "(every result kept alive), fresh (a new process's first call)")
         ap.add_argument("--force", action="store_true", help="measure finished cells again")
         ap.add_argument("--out", default="results")
         ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")

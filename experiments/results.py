@@ -12,7 +12,7 @@ import pandas as pd
 NOMINAL_HZ = 3.0e9  # paper 1 normalises cycle counts to 3 GHz
 PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
 FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed", "count",
-          "round", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz",
+          "round", "regime", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz",
           "mpts_per_s", "peak_bytes", "bytes_per_point", "version", "counts"]
 INTS = ("n", "threads", "seed", "round", "repeat")
 FLOATS = ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes", "bytes_per_point")
@@ -90,6 +90,8 @@ def load(out_dir):
                      na_values={c: [""] for c in FLOATS})
     if "round" not in df:  # results from before rounds existed
         df["round"] = 0
+    if "regime" not in df:  # results from before regimes existed
+        df["regime"] = "loop"
     for c in INTS:
         df[c] = pd.to_numeric(df[c], errors="coerce").fillna(0).astype(np.int64)
     for c in FLOATS:

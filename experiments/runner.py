@@ -37,6 +37,7 @@ class Cell:
     seed: int = 0
     count: bool = False
     round: int = 0  # the grid is measured `rounds` times, round after round
+    regime: str = "loop"  # drivers.isolate.REGIMES: loop, kept or fresh
 
     @classmethod
     def from_record(cls, record):
@@ -52,11 +53,14 @@ class Cell:
         d = asdict(self)
         if not d["round"]:
             del d["round"]  # keys of single-round sweeps predate rounds: they still resume
+        if d["regime"] == "loop":
+            del d["regime"]  # as do keys of the loop regime, which predate regimes
         return json.dumps(d, sort_keys=True)
 
     def label(self):
         return (f"{self.peer} {self.distribution} n={self.n:,}"
-                f"{' (counts)' if self.count else ''}{f' round {self.round + 1}' if self.round else ''}")
+                f"{' (counts)' if self.count else ''}{f' round {self.round + 1}' if self.round else ''}"
+                f"{'' if self.regime == 'loop' else f' ({self.regime})'}")
 
 
 def check(cell):
@@ -77,12 +81,19 @@ def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
                 f"{avail / 2**30:.1f} GiB available"}
     pts = np.asarray(generators.make(cell.distribution, cell.n, seed=cell.seed, dtype=cell.dtype))
     limit = int(memory_fraction * avail) if avail else None
-    m = drivers.measure_isolated(peer, pts, repeats=repeats, count=cell.count, timeout=timeout,
-                                 memory_bytes=limit)
-    if not m.ok:
-        return {"status": m.reason, "detail": m.detail[:500]}
-    return {"status": "ok", "seconds": m.seconds, "cycles": m.cycles,
-            "peak_bytes": m.extra_peak_bytes, "version": m.version, "counts": m.counts}
+    # a fresh process per timed run in the fresh regime: each is a first call
+    per_process = repeats if cell.regime != "fresh" else 1
+    runs = []
+    for _ in range(repeats // per_process):
+        m = drivers.measure_isolated(peer, pts, repeats=per_process, count=cell.count,
+                                     timeout=timeout, memory_bytes=limit, regime=cell.regime)
+        if not m.ok:
+            return {"status": m.reason, "detail": m.detail[:500]}
+        runs.append(m)
+    return {"status": "ok", "seconds": [s for m in runs for s in m.seconds],
+            "cycles": [c for m in runs for c in m.cycles],
+            "peak_bytes": max(m.extra_peak_bytes for m in runs), "version": runs[0].version,
+            "counts": runs[0].counts}
 
 
 def peer_builds(names):

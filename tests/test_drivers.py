@@ -136,6 +136,61 @@ def test_isolated_success_returns_measurement(rng):
     assert out.ok and len(out.seconds) == 2 and out.peak_rss_bytes > 0
 
 
+class Recorder(drivers.Peer):
+    """Counts its runs in this process, and says whether it was prepared cold."""
+    name = "recorder"
+    runs_here = 0
+
+    def prepare(self, points, order=None, count=False):
+        self.was_cold = self.cold
+
+    def run(self):
+        type(self).runs_here += 1
+        self.out = [os.getpid(), type(self).runs_here]
+
+    def result(self):
+        return drivers.Result(None, {"pid": self.out[0], "runs_in_process": self.out[1],
+                                     "cold": int(self.was_cold),
+                                     "kept": len(getattr(self, "kept", []))})
+
+
+@pytest.mark.parametrize("regime,runs,kept", [("loop", 3, 0), ("kept", 3, 2)])
+def test_warm_regimes_run_after_a_warm_up_in_one_process(regime, runs, kept):
+    out = drivers.measure_isolated(Recorder(), np.zeros((3, 2)), repeats=2, regime=regime)
+    assert out.ok and len(out.seconds) == 2
+    assert out.counts == {"pid": out.counts["pid"], "runs_in_process": runs, "cold": 0,
+                          "kept": kept}
+
+
+def test_the_fresh_regime_times_the_first_call_of_a_new_interpreter():
+    """Spawned, not forked: a class attribute this process changed is back
+    to its default in the child, as is every kernel this process compiled."""
+    Recorder.runs_here = 100
+    try:
+        out = drivers.measure_isolated(Recorder(), np.zeros((3, 2)), repeats=5, regime="fresh")
+    finally:
+        Recorder.runs_here = 0
+    assert out.ok and len(out.seconds) == 1  # one timed run per process
+    assert out.counts["runs_in_process"] == 1 and out.counts["cold"] == 1
+    assert out.counts["pid"] != os.getpid()
+
+
+def test_a_fresh_lfqt_call_compiles_or_loads_its_kernels_in_the_timed_run(rng):
+    """Our peer skips its warm-up when cold: in a new interpreter the timed
+    call is the first, and loads its kernels, so it is slower than a warm one."""
+    pts = rng.random((20_000, 2))
+    warm = drivers.measure_isolated(drivers.make("lfqt-dc"), pts, repeats=3, timeout=120)
+    fresh = drivers.measure_isolated(drivers.make("lfqt-dc"), pts, repeats=1, timeout=120,
+                                     regime="fresh")
+    assert warm.ok and fresh.ok
+    assert fresh.seconds[0] > 2 * min(warm.seconds)
+
+
+def test_an_unknown_regime_is_refused():
+    with pytest.raises(ValueError, match="unknown regime 'cold'"):
+        drivers.measure(Recorder(), np.zeros((3, 2)), regime="cold")
+
+
 def test_our_warm_up_leaves_no_idle_memory_under_the_baseline(rng):
     """prepare's warm-up call (past the radix sort's MSD leaf, so that every
     kernel is loaded before the baseline) maps memory that lfqt.workspace
