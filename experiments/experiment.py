@@ -46,6 +46,7 @@ class Experiment:
     # the regimes (drivers.isolate.REGIMES) the plot tells apart; --regime
     # takes any of them, and the grid is measured once per regime asked for
     regimes: tuple = ("loop",)
+    default_regimes: tuple = ("loop",)  # what --regime is when not given
 
     @property
     def command(self):
@@ -96,7 +97,8 @@ class Experiment:
                         help="keep only these sizes of the scale's grid, e.g. 1e5,1e6")
         ap.add_argument("--dists", type=lambda s: s.split(","),
                         help="keep only these distributions, comma separated")
-        ap.add_argument("--regime", type=lambda s: s.split(","), default=["loop"],
+        ap.add_argument("--regime", type=lambda s: s.split(","),
+                        default=list(self.default_regimes),
                         help="comma separated: loop (a warm process, each result dropped), kept "
                              "(every result kept alive), fresh (a new process's first call)")
         ap.add_argument("--force", action="store_true", help="measure finished cells again")

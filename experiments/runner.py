@@ -93,7 +93,19 @@ def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
     return {"status": "ok", "seconds": [s for m in runs for s in m.seconds],
             "cycles": [c for m in runs for c in m.cycles],
             "peak_bytes": max(m.extra_peak_bytes for m in runs), "version": runs[0].version,
-            "counts": runs[0].counts}
+            "counts": _merged_counts([m.counts for m in runs])}
+
+
+def _merged_counts(counts):
+    """The counts of a cell measured in several processes (the fresh
+    regime): a per-run list (drivers.surface's times) is concatenated in
+    run order; any other count is the first process's (counts do not vary
+    between runs of the same input)."""
+    out = dict(counts[0])
+    for key, value in out.items():
+        if isinstance(value, list):
+            out[key] = [x for c in counts for x in c.get(key, [])]
+    return out
 
 
 def peer_builds(names):

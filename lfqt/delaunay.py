@@ -14,7 +14,7 @@ from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
 from .derived import hyperplanes, transforms, vertex_neighbours
 from .incremental import insert
-from .location import (TINY_SHIFT, grid_order, jump_sample, locate_brute, locate_rational,
+from .location import (TINY_SHIFT, coherent, grid_order, jump_sample, locate_brute, locate_rational,
                        locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
                        tiny_frame_ok)
 from .triangulation import DegenerateInputError, Triangulation
@@ -203,6 +203,7 @@ class Delaunay:
         self._scale = 2.0 ** self._exponent
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
         self._cache = {}
+        self._located = 0  # queries walked so far (location_frame's trigger)
 
     def _paraboloid(self):
         """Qhull's "Qbb" with scipy's "Qz": the lifted coordinates, with the
@@ -225,6 +226,25 @@ class Delaunay:
         if self._exponent == 0:
             return self.points
         return self._cached("frame", lambda: self.points * self._scale)
+
+    def _walk_frame(self, queries):
+        """(P, S) the walk reads: the frame and the simplices, or, once the
+        queries walked reach a quarter of the points, the vertices renumbered
+        along the curve (``P[perm]``, ``inv[S]``, same simplex rows) so that
+        a walk reads neighbouring memory instead of the input's order: half
+        the walk's time on a 1M mesh (docs/performance.md, "location
+        frame"), for a copy of the points and the simplices."""
+        self._located += queries
+        if "walk_frame" not in self._cache and 4 * self._located < self.npoints:
+            return self._frame(), self.simplices
+
+        def build():
+            P = self._frame()
+            perm = grid_order(P)
+            inv = np.empty(len(perm), dtype=self.simplices.dtype)
+            inv[perm] = np.arange(len(perm), dtype=inv.dtype)
+            return np.ascontiguousarray(P[perm]), inv[self.simplices]
+        return self._cached("walk_frame", build)
 
     def _workers(self):
         """The build's thread count (None: every core, as lfqt.triangulate)."""
@@ -369,8 +389,11 @@ class Delaunay:
         out, at = self._walk(Q, bruteforce)
         if tiny.any():
             out[tiny] = self._locate_tiny(q[rows[tiny]], Q[tiny], at[tiny])
-        found = np.full(len(q), -1, dtype=np.int64)
-        found[rows] = out
+        if len(rows) == len(q):  # every query in the box: out is in the caller's order
+            found = out
+        else:
+            found = np.full(len(q), -1, dtype=np.int64)
+            found[rows] = out
         if tol > 0:
             self._locate_tolerant(q, tol, found, rows[out < 0], at[out < 0], near)
         return found.astype(np.intc).reshape(shape)
@@ -378,10 +401,11 @@ class Delaunay:
     def _walk(self, Q, bruteforce):
         """(simplex of each row of Q or -1, the last simplex its search
         visited), on the threads for many queries."""
-        P, S, N = self._frame(), self.simplices, self.neighbors
         out, at = np.empty(len(Q), dtype=np.int64), np.empty(len(Q), dtype=np.int64)
         if len(Q) == 0:
             return out, at
+        N = self.neighbors
+        P, S = (self._frame(), self.simplices) if bruteforce else self._walk_frame(len(Q))
         workers = self._workers() if len(Q) > 4096 else Workers(1)
         chunks = workers.chunks(len(Q), min_chunk=4096)
         if bruteforce:
@@ -389,8 +413,13 @@ class Delaunay:
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
         else:
+            jump = jump_sample(len(Q), len(S))
+            if coherent(Q):  # the caller's order is already one along space
+                workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at,
+                                                                  jump))
+                return out, at
             # the queries gathered in curve order, so that the walks read and write in a run
-            order, jump = grid_order(Q), jump_sample(len(Q), len(S))
+            order = grid_order(Q)
             Qs, found, last = Q[order], np.empty_like(out), np.empty_like(at)
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
                                                               jump))

@@ -45,6 +45,7 @@ from .predicates.expansion import (EPS, cross_exact, exact_diff, expansion_produ
                                    expansion_sum, scale_expansion)
 from .predicates.planar import CCW_A, orient2d_staged
 from .predicates.spatial import O3D_A, orient3d_staged
+from .morton import spread_bits
 from .radix import sort_keys
 from .workers import Workers
 
@@ -104,32 +105,89 @@ def _contains(P, S, t, qx, qy, qz):
     return True
 
 
-@njit(cache=True, nogil=True)
-def _walk(P, S, N, qx, qy, qz, t, k):
-    """(simplex of q or -1, the last simplex visited) by the visibility walk
-    from t; -2 when the step budget runs out (the caller falls back).  The
-    facet a step came through is not tested again: q lies beyond it from
-    the other side."""
-    k1 = S.shape[1]
-    came = -1
-    for _ in range(4 * S.shape[0] + 4):
-        moved = False
-        for j in range(k1):
-            i = (j + k) % k1  # vary the first facet tried, so the walk cannot cycle
-            if i != came and _beyond(P, S, t, i, qx, qy, qz):
-                u = N[t, i]
-                if u < 0:
-                    return -1, t
-                came = -1
-                for r in range(k1):
-                    if N[u, r] == t:
-                        came = r
-                t = u
-                moved = True
-                break
-        if not moved:
-            return t, t
-    return -2, t
+@njit(cache=True, inline="always")
+def _below(ax, ay, bx, by, qx, qy):
+    """q strictly to the right of the directed edge a -> b (beyond it, for
+    a counter-clockwise triangle)."""
+    o, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
+    return o < 0.0
+
+
+@njit(cache=True, inline="always")
+def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """a, b, c, d negatively oriented (q, in one slot, beyond the facet of
+    the other three)."""
+    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+    return o < 0.0
+
+
+@njit(cache=True, inline="always")
+def _step2(P, S, t, qx, qy, first, came):
+    """The edge of triangle t that q lies beyond, or -1 (q is in t).  The
+    corners are read once; the edge the walk came through (``came``) is
+    not tested again, q lies beyond it from the other side; ``first``, the
+    edge tried first, varies with the query, so that the walk cannot cycle::
+
+            c
+           / \\        edge i is the one opposite corner i:
+          1   0       0 = b -> c, 1 = c -> a, 2 = a -> b
+         /     \\
+        a---2---b
+    """
+    a, b, c = S[t, 0], S[t, 1], S[t, 2]
+    ax, ay, bx, by, cx, cy = P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1]
+    for j in range(3):
+        i = first + j
+        if i >= 3:
+            i -= 3
+        if i == came:
+            continue
+        if i == 0:
+            beyond = _below(bx, by, cx, cy, qx, qy)
+        elif i == 1:
+            beyond = _below(cx, cy, ax, ay, qx, qy)
+        else:
+            beyond = _below(ax, ay, bx, by, qx, qy)
+        if beyond:
+            return i
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _step3(P, S, t, qx, qy, qz, first, came):
+    """_step2 for tetrahedra: q lies beyond the facet opposite corner i when
+    the tetrahedron with q in slot i is negatively oriented."""
+    a, b, c, d = S[t, 0], S[t, 1], S[t, 2], S[t, 3]
+    ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
+    bx, by, bz = P[b, 0], P[b, 1], P[b, 2]
+    cx, cy, cz = P[c, 0], P[c, 1], P[c, 2]
+    dx, dy, dz = P[d, 0], P[d, 1], P[d, 2]
+    for j in range(4):
+        i = (first + j) & 3
+        if i == came:
+            continue
+        if i == 0:
+            beyond = _flat(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz)
+        elif i == 1:
+            beyond = _flat(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz)
+        elif i == 2:
+            beyond = _flat(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz)
+        else:
+            beyond = _flat(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz)
+        if beyond:
+            return i
+    return -1
+
+
+@njit(cache=True, inline="always")
+def _slot_of(N, u, t):
+    """The slot of u's neighbour t: the facet a step from t into u crossed."""
+    k1 = N.shape[1]
+    if N[u, 0] == t:
+        return 0
+    if N[u, 1] == t:
+        return 1
+    return 2 if k1 == 3 or N[u, 2] == t else 3
 
 
 @njit(cache=True, nogil=True)
@@ -141,13 +199,42 @@ def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
     for queries too sparse for the previous answer to be near); -1
     outside.  ``last[k]`` is the last simplex query k's walk visited (where
     an outside query left the hull).  A walk that exceeds its step budget
-    falls back to the brute force."""
+    falls back to the brute force.  P and S may be renumbered (a
+    ``walk_frame``): the simplices' rows, and so the answers, stay.
+
+    The walk is written out in this loop rather than called: an inlined
+    function that returns a tuple per query doubled the time
+    (docs/performance.md, "location walk")."""
+    if P.shape[1] == 2:
+        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, 2)
+    else:
+        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, 3)
+
+
+@njit(cache=True, inline="always")
+def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
+    """locate_walk's loop, with the dimension ``d`` a constant where it is
+    inlined (one walk in the loop, not a branch between two)."""
+    budget = 4 * S.shape[0] + 4
     t = 0
     for k in range(lo, hi):
         qx, qy, qz = _query(Q, k)
         if sample > 0:
             t = _nearest_start(P, S, sample, qx, qy, qz, t)
-        found, t = _walk(P, S, N, qx, qy, qz, t, k)
+        first = k % (d + 1)
+        came, found = -1, -2
+        for _ in range(budget):
+            i = _step2(P, S, t, qx, qy, first, came) if d == 2 else _step3(
+                P, S, t, qx, qy, qz, first, came)
+            if i < 0:
+                found = t
+                break
+            u = N[t, i]
+            if u < 0:
+                found = -1
+                break
+            came = _slot_of(N, u, t)
+            t = u
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
@@ -219,6 +306,35 @@ def split_queries(q, lo, hi, scale, floor, tol):
     return rows[:w], H[:w], tiny[:w], near[:z]
 
 
+@njit(cache=True, nogil=True)
+def coherent(Q):
+    """True when the rows of Q already follow each other in space (a caller
+    sorted them, or they come from a grid): then the walk takes them in the
+    caller's order, and sorting them again would cost more than it saves.
+    The test, on a sample of consecutive pairs spread over Q: the median
+    step is within a few cells of a grid of one query per cell over the
+    sample's box."""
+    n, d = Q.shape
+    if n < 64:
+        return True
+    pairs = min(n - 1, 1024)
+    stride = (n - 1) // pairs
+    gap = np.empty(pairs)
+    lo, hi = Q[0].copy(), Q[0].copy()
+    for j in range(pairs):
+        k = j * stride
+        s = 0.0
+        for a in range(d):
+            s += abs(Q[k + 1, a] - Q[k, a])
+            lo[a] = min(lo[a], Q[k, a])
+            hi[a] = max(hi[a], Q[k, a])
+        gap[j] = s
+    cell = 0.0
+    for a in range(d):
+        cell += (hi[a] - lo[a]) / n ** (1.0 / d)
+    return np.median(gap) <= 4.0 * cell
+
+
 def grid_order(Q):
     """An order of the query rows along the Morton curve of a grid over
     their bounding box, so that each walk starts near its answer (lfqt's
@@ -230,9 +346,22 @@ def grid_order(Q):
     return sort_keys(keys, order, Workers(1))[1]
 
 
+@njit(cache=True, inline="always")
+def _spread3(v):
+    """Move bit k of a 21-bit value to bit 3k."""
+    v &= np.uint64(0x1FFFFF)
+    v = (v | (v << np.uint64(32))) & np.uint64(0x1F00000000FFFF)
+    v = (v | (v << np.uint64(16))) & np.uint64(0x1F0000FF0000FF)
+    v = (v | (v << np.uint64(8))) & np.uint64(0x100F00F00F00F00F)
+    v = (v | (v << np.uint64(4))) & np.uint64(0x10C30C30C30C30C3)
+    v = (v | (v << np.uint64(2))) & np.uint64(0x1249249249249249)
+    return v
+
+
 @njit(cache=True, nogil=True)
 def _grid_keys(Q, bits):
-    """Morton keys of the rows of Q on a 2**bits grid per axis."""
+    """Morton keys of the rows of Q on a 2**bits grid per axis (16 bits in
+    2D, 21 in 3D)."""
     n, d = Q.shape
     lo = np.empty(d)
     step = np.empty(d)
@@ -240,14 +369,15 @@ def _grid_keys(Q, bits):
         lo[a] = Q[:, a].min()
         span = Q[:, a].max() - lo[a]
         step[a] = (2.0 ** bits - 1.0) / span if span > 0.0 else 0.0
-    keys = np.zeros(n, dtype=np.uint64)
+    keys = np.empty(n, dtype=np.uint64)
     for k in range(n):
-        key = np.uint64(0)
-        for a in range(d):
-            cell = np.uint64((Q[k, a] - lo[a]) * step[a])
-            for b in range(bits):
-                key |= ((cell >> np.uint64(b)) & np.uint64(1)) << np.uint64(b * d + a)
-        keys[k] = key
+        x = np.uint64((Q[k, 0] - lo[0]) * step[0])
+        y = np.uint64((Q[k, 1] - lo[1]) * step[1])
+        if d == 2:
+            keys[k] = spread_bits(x) | (spread_bits(y) << np.uint64(1))
+        else:
+            z = np.uint64((Q[k, 2] - lo[2]) * step[2])
+            keys[k] = _spread3(x) | (_spread3(y) << np.uint64(1)) | (_spread3(z) << np.uint64(2))
     return keys
 
 
