@@ -15,9 +15,9 @@ from numba import njit
 @njit(cache=True, inline="always")
 def _solve_coordinates(P, S, s, x, c):
     """c[:d+1] = barycentric coordinates of x in simplex s by Cramer's rule
-    on its vertices: for the simplices whose ``transform`` is NaN (too flat
-    for scipy's condition limit), which exact location may still return.
-    Equal weights where the determinant rounds to zero."""
+    on its vertices, the last resort for a simplex too flat for a
+    ``transform`` whose neighbours are too (_coordinates); all the weight on
+    the nearest vertex where the determinant rounds to zero."""
     d = P.shape[1]
     r = S[s, d]
     if d == 2:
@@ -26,7 +26,7 @@ def _solve_coordinates(P, S, s, x, c):
         qx, qy = x[0] - P[r, 0], x[1] - P[r, 1]
         det = ax * by - ay * bx
         if det == 0.0:
-            c[:] = 1.0 / 3.0
+            _nearest_vertex(P, S, s, x, c)
             return
         c[0] = (qx * by - qy * bx) / det
         c[1] = (ax * qy - ay * qx) / det
@@ -40,7 +40,7 @@ def _solve_coordinates(P, S, s, x, c):
             M[a, j] = P[S[s, j], a] - P[r, a]
     det = _det3(M[:, 0], M[:, 1], M[:, 2])
     if det == 0.0:
-        c[:] = 0.25
+        _nearest_vertex(P, S, s, x, c)
         return
     c[0] = _det3(q, M[:, 1], M[:, 2]) / det
     c[1] = _det3(M[:, 0], q, M[:, 2]) / det
@@ -56,14 +56,25 @@ def _det3(u, v, w):
 
 
 @njit(cache=True, inline="always")
-def _coordinates(P, S, T, s, x, c):
-    """c[:d+1] = barycentric coordinates of x in simplex s, from scipy's
-    ``transform`` (the same arithmetic as scipy's interpolators, so that the
-    two agree to rounding), or solved on the vertices where it is NaN."""
-    d = P.shape[1]
-    if np.isnan(T[s, 0, 0]):
-        _solve_coordinates(P, S, s, x, c)
-        return
+def _nearest_vertex(P, S, s, x, c):
+    """c = 1 at the vertex of simplex s nearest to x, 0 at the others."""
+    best, at = np.inf, 0
+    for j in range(S.shape[1]):
+        dist = 0.0
+        for a in range(P.shape[1]):
+            dist += (P[S[s, j], a] - x[a]) ** 2
+        if dist < best:
+            best, at = dist, j
+        c[j] = 0.0
+    c[at] = 1.0
+
+
+@njit(cache=True, inline="always")
+def _transform_coordinates(T, s, x, c):
+    """c[:d+1] = barycentric coordinates of x from scipy's ``transform`` of
+    simplex s (the same arithmetic as scipy's interpolators, so that the
+    two agree to rounding); returns the smallest."""
+    d = T.shape[2]
     c[d] = 1.0
     for i in range(d):
         acc = 0.0
@@ -71,14 +82,44 @@ def _coordinates(P, S, T, s, x, c):
             acc += T[s, i, j] * (x[j] - T[s, d, j])
         c[i] = acc
         c[d] -= acc
+    low = c[d]
+    for i in range(d):
+        low = min(low, c[i])
+    return low
+
+
+@njit(cache=True, inline="always")
+def _coordinates(P, S, N, T, s, x, c):
+    """The simplex to interpolate on for x, located in simplex s, with x's
+    barycentric coordinates in it (c).  s itself when its ``transform`` is
+    finite.  A simplex too flat for one (NaN: beyond scipy's condition
+    limit, which exact location may still return) passes x to the
+    neighbour with a transform that holds x best, as scipy's location does
+    (a flat simplex is thin, so x lies on that neighbour up to a sliver);
+    without one, Cramer's rule on s's vertices."""
+    if not np.isnan(T[s, 0, 0]):
+        _transform_coordinates(T, s, x, c)
+        return s
+    best, best_low = -1, -np.inf
+    for k in range(S.shape[1]):
+        t = N[s, k]
+        if t >= 0 and not np.isnan(T[t, 0, 0]):
+            low = _transform_coordinates(T, t, x, c)
+            if low > best_low:
+                best, best_low = t, low
+    if best < 0:
+        _solve_coordinates(P, S, s, x, c)
+        return s
+    _transform_coordinates(T, best, x, c)
+    return best
 
 
 @njit(cache=True, nogil=True)
 def _linear(mesh, found, X, V, fill, out, lo, hi):
     """out[lo:hi] = the barycentric mix of V over the simplex found for each
     query row of X, or ``fill`` (one value per column) where found is -1.
-    ``mesh`` = (points, simplices, transform)."""
-    P, S, T = mesh
+    ``mesh`` = (points, simplices, neighbors, transform)."""
+    P, S, N, T = mesh
     d = P.shape[1]
     k = V.shape[1]
     c = np.empty(d + 1)
@@ -88,7 +129,7 @@ def _linear(mesh, found, X, V, fill, out, lo, hi):
             for a in range(k):
                 out[i, a] = fill[a]
             continue
-        _coordinates(P, S, T, s, X[i], c)
+        s = _coordinates(P, S, N, T, s, X[i], c)
         for a in range(k):
             out[i, a] = 0.0
         for j in range(d + 1):
@@ -105,14 +146,15 @@ def _twist(P, S, N, T, s, g, cc, y):
     from this triangle's centroid to the neighbour's (affine invariant, and
     the same from both sides, hence C1); -1/2 (the centroid direction) on
     the hull.  cc and y are scratch."""
+    flat = np.isnan(T[s, 0, 0])  # Cramer's last resort (_coordinates): no transform to use
     for k in range(3):
         t = N[s, k]
-        if t < 0:
+        if t < 0 or flat:
             g[k] = -0.5
             continue
         for a in range(2):
             y[a] = (P[S[t, 0], a] + P[S[t, 1], a] + P[S[t, 2], a]) / 3.0
-        _coordinates(P, S, T, s, y, cc)
+        _transform_coordinates(T, s, y, cc)
         p, q = cc[(k + 2) % 3], cc[(k + 1) % 3]
         g[k] = (2.0 * p + q - 1.0) / (2.0 - 3.0 * p - 3.0 * q)
 
@@ -178,7 +220,7 @@ def _clough_tocher(mesh, found, X, V, G, fill, out, lo, hi):
             for a in range(k):
                 out[i, a] = fill[a]
             continue
-        _coordinates(P, S, T, s, X[i], b)
+        s = _coordinates(P, S, N, T, s, X[i], b)
         _twist(P, S, N, T, s, g, cc, y)
         for j in range(3):
             u, v = S[s, j], S[s, (j + 1) % 3]
@@ -249,3 +291,25 @@ def _gradients(P, indptr, indices, L3, Q, f, maxiter, tol, grad):
         if err < tol:
             return sweep + 1
     return 0
+
+
+@njit(cache=True, nogil=True)
+def _near_hull(N, T, inward, X, eps, found):
+    """found[i] = a simplex in which query X[i], just outside the hull,
+    has every barycentric coordinate >= -eps, or -1: the simplex that
+    ``inward[i]`` located for it after a nudge into the hull, else one of
+    that simplex's neighbours (scipy's location accepts such queries)."""
+    k1 = N.shape[1]
+    c = np.empty(k1)
+    for i in range(len(X)):
+        found[i] = -1
+        s = inward[i]
+        if s < 0:
+            continue
+        for j in range(-1, k1):
+            t = s if j < 0 else N[s, j]
+            if t < 0 or np.isnan(T[t, 0, 0]):
+                continue
+            if _transform_coordinates(T, t, X[i], c) >= -eps:
+                found[i] = t
+                break

@@ -10,10 +10,14 @@ scipy's own reach into Qhull's C structures and cannot take one.
 Sibson's natural-neighbour interpolation in 2D and 3D (lfqt.natural).
 
 A query is located exactly (``Delaunay.find_simplex``): it gets a value
-when it lies in the closed convex hull of the points, ``fill_value``
-otherwise.  scipy's location also accepts queries up to about 100 ulps
-(barycentric) outside the hull; that widening is the one difference.  The
-weighted sums and the Clough-Tocher element are jitted kernels
+when it lies in the closed convex hull of the points.  A query just
+outside, whose barycentric coordinates in a hull simplex are all >= -100
+eps (scipy's tolerance, which keeps a point computed on the hull in
+floating point inside), also gets one, as with scipy: it is nudged into the
+hull by 1e-9 of its distance to the points' centroid, located again, and
+its coordinates are checked in that simplex and its neighbours (on a
+grazing hull, where the nudge lands farther than a simplex away, it gets
+``fill_value`` where scipy's walk might have accepted it).  The weighted sums and the Clough-Tocher element are jitted kernels
 (lfqt._interpolate_kernels) run over ranges of queries on ``threads``
 threads; the gradient estimate of the Clough-Tocher interpolant is scipy's
 minimum-curvature Gauss-Seidel iteration over ``vertex_neighbor_vertices``.
@@ -28,7 +32,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._interpolate_kernels import _clough_tocher, _edge_geometry, _gradients, _linear
+from ._interpolate_kernels import (_clough_tocher, _edge_geometry, _gradients, _linear,
+                                   _near_hull)
 from .delaunay import Delaunay
 from .workers import Workers
 
@@ -37,6 +42,8 @@ __all__ = ["LinearNDInterpolator", "CloughTocher2DInterpolator", "NearestNDInter
            "GradientEstimationWarning"]
 
 MIN_QUERIES_PER_THREAD = 1 << 14  # below this a range costs more to hand out than to run
+HULL_EPS = 100 * np.finfo(np.float64).eps  # scipy's tolerance on barycentric coordinates
+NUDGE = 1e-9  # of the way to the centroid: past the hull's rounding, short of a simplex
 
 
 class GradientEstimationWarning(Warning):
@@ -75,6 +82,13 @@ def _check_shapes(points, values, ndim=None):
         raise ValueError(f"this mode of interpolation available only for {ndim}-D data")
 
 
+def _kernel_array(a, dtype):
+    """``a`` as a C-contiguous writable array of ``dtype``: numba compiles
+    a kernel again for read-only arrays, so those are copied."""
+    a = np.ascontiguousarray(a, dtype=dtype)
+    return a if a.flags.writeable else a.copy()
+
+
 def _is_scipy_delaunay(obj):
     spatial = sys.modules.get("scipy.spatial")
     return spatial is not None and isinstance(obj, spatial.Delaunay)
@@ -104,7 +118,7 @@ class _Interpolator:
             points = points.points  # a scipy Delaunay is triangulated again, exactly
         points = _coordinates(points)
         if triangulate:
-            points = np.ascontiguousarray(points, dtype=np.float64)
+            points = _kernel_array(points, np.float64)
         self.scale = None
         if rescale:
             self.offset = np.mean(points, axis=0)
@@ -123,10 +137,10 @@ class _Interpolator:
         flat = values.reshape(values.shape[0], int(np.prod(values.shape[1:])))
         self.is_complex = np.issubdtype(flat.dtype, np.complexfloating)
         if self.is_complex:
-            self.values = np.ascontiguousarray(flat, dtype=np.complex128)
+            self.values = _kernel_array(flat, np.complex128)
             self.fill_value = complex(fill_value)
         else:
-            self.values = np.ascontiguousarray(flat, dtype=np.float64)
+            self.values = _kernel_array(flat, np.float64)
             self.fill_value = float(fill_value)
 
     # -- queries -----------------------------------------------------------
@@ -138,7 +152,7 @@ class _Interpolator:
         if xi.shape[-1] != self.points.shape[1]:
             raise ValueError("number of dimensions in xi does not match x")
         shape = xi.shape
-        xi = np.ascontiguousarray(xi.reshape(-1, shape[-1]), dtype=np.float64)
+        xi = _kernel_array(xi.reshape(-1, shape[-1]), np.float64)
         if self.scale is not None:
             xi = (xi - self.offset) / self.scale
         return xi, shape
@@ -162,10 +176,27 @@ class _Interpolator:
     def _as_values(self, out):
         return out.view(np.complex128) if self.is_complex else out
 
+    def _locate(self, xi):
+        """The simplex of each query, exactly, and for the queries just
+        outside the hull one that holds them within scipy's tolerance
+        (module docstring), or -1."""
+        tri = self.tri
+        found = tri.find_simplex(xi).astype(np.int64)
+        box = np.abs(tri.max_bound - tri.min_bound) * HULL_EPS
+        near = np.flatnonzero((found < 0) & (xi >= tri.min_bound - box).all(axis=1)
+                              & (xi <= tri.max_bound + box).all(axis=1))
+        if len(near):
+            x = xi[near]
+            inward = tri.find_simplex(x + NUDGE * (tri.points.mean(axis=0) - x))
+            again = np.empty(len(near), dtype=np.int64)
+            _near_hull(tri.neighbors, tri.transform, inward.astype(np.int64), x, HULL_EPS, again)
+            found[near] = again
+        return found
+
     def _run(self, kernel, mesh, xi, *arrays):
         """kernel(mesh, simplex of each query, xi, *arrays, out, lo, hi)
         over ranges of the queries on the threads; returns out."""
-        found = self.tri.find_simplex(xi)
+        found = self._locate(xi)
         out = np.empty((len(xi), arrays[0].shape[1]))
         threads = (os.cpu_count() or 1) if self._threads is None else self._threads
         workers = Workers(threads)
@@ -227,7 +258,7 @@ class LinearNDInterpolator(_Interpolator):
     def _evaluate(self, xi):
         V, fill = self._real()
         tri = self.tri
-        mesh = (tri.points, tri.simplices, tri.transform)
+        mesh = (tri.points, tri.simplices, tri.neighbors, tri.transform)
         return self._as_values(self._run(_linear, mesh, xi, V, fill))
 
 
@@ -354,7 +385,7 @@ class NearestNDInterpolator(_Interpolator):
     >>> import numpy as np, lfqt
     >>> ip = lfqt.interpolate.NearestNDInterpolator([[0, 0], [1, 0], [0, 1]], [10, 20, 30])
     >>> ip([[0.9, 0.2], [0.1, 0.1]])
-    array([20, 10])
+    array([20., 10.])
     """
 
     def __init__(self, x: Any, y: npt.ArrayLike, rescale: bool = False,
