@@ -5,8 +5,9 @@ that the Delaunay triangulation is unique and scipy's equals ours: affine
 data are reproduced, the weights form a partition of unity, and the three
 interpolators agree with scipy's to 1e-10.  Then the interface: fill
 values, one Delaunay for two fields, complex and shaped values, rescale,
-call forms, threads, scipy's error types.  Every mesh an interpolator
-builds is verified exactly (``_verified``)."""
+call forms, threads, scipy's error types.  Every lfqt.Delaunay built
+while these tests run (by a test, an interpolator or griddata) is verified
+exactly as it is built (``_every_mesh_is_verified``)."""
 import doctest
 import pickle
 import threading
@@ -28,11 +29,37 @@ CLASSES = {"linear": "LinearNDInterpolator", "cubic": "CloughTocher2DInterpolato
            "nearest": "NearestNDInterpolator"}
 
 
+VERIFIED = []  # the size of each mesh verified as it was built
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _every_mesh_is_verified():
+    """Each lfqt.Delaunay built in the module's tests passes lfqt.verify
+    as it is built (its _build wrapped for the module's duration)."""
+    build = lfqt.Delaunay._build
+
+    def verified_build(self, arr):
+        build(self, arr)
+        report = lfqt.verify(self.points, self.triangulation)
+        assert report.ok, report.problems
+        VERIFIED.append(self.npoints)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(lfqt.Delaunay, "_build", verified_build)
+        yield
+
+
 def _verified(ip):
-    """The interpolator, after an exact proof that its mesh is Delaunay."""
-    report = lfqt.verify(ip.tri.points, ip.tri.triangulation)
-    assert report.ok, report.problems
+    """The interpolator, whose mesh was verified as it was built."""
+    assert VERIFIED and VERIFIED[-1] == len(ip.tri.points)
     return ip
+
+
+def test_meshes_are_verified_as_they_are_built(rng):
+    before = len(VERIFIED)
+    interpolate.griddata(rng.random((30, 2)), np.zeros(30), [0.5, 0.5])
+    interpolate.CloughTocher2DInterpolator(rng.random((31, 2)), np.zeros(31))
+    assert VERIFIED[before:] == [30, 31]
 
 
 def _inside(rng, points, m):
