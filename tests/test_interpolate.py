@@ -200,6 +200,17 @@ def test_one_delaunay_serves_two_fields(rng):
     np.testing.assert_array_equal(near(q), interpolate.NearestNDInterpolator(points, f)(q))
 
 
+def test_a_scipy_delaunay_is_taken_as_its_points(rng):
+    points = rng.random((100, 2))
+    theirs = scipy.spatial.Delaunay(points)
+    ip = _verified(interpolate.LinearNDInterpolator(theirs, points[:, 1]))
+    assert isinstance(ip.tri, lfqt.Delaunay) and _same_mesh(ip.tri, theirs)
+    q = _inside(rng, points, 20)
+    np.testing.assert_allclose(ip(q), q[:, 1], atol=1e-14)
+    with pytest.raises(ValueError, match="Rescaling is not supported"):
+        interpolate.CloughTocher2DInterpolator(theirs, points[:, 1], rescale=True)
+
+
 @pytest.mark.parametrize("name", ["LinearNDInterpolator", "CloughTocher2DInterpolator"])
 def test_complex_and_shaped_values(name, rng):
     points = rng.random((80, 2))
