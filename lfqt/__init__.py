@@ -6,10 +6,11 @@
     Delaunay      the scipy.spatial.Delaunay interface (lfqt.delaunay)
     quadtree      the LFQT of a point set as a table (lfqt.dc.quadtree)
     distributed   Tile & Merge on Dask for sets beyond one machine (lfqt.distributed)
+    interpolate   scipy.interpolate's scattered-data interpolators over lfqt.Delaunay
     workspace     scratch memory kept for the next call; workspace.release() frees it now
 """
 from . import jit_cache  # noqa: F401  (first: before any kernel is defined)
-from . import distributed, workspace
+from . import distributed, interpolate, workspace
 from .dc import triangulate
 from .dc.quadtree import quadtree
 from .delaunay import Delaunay
@@ -18,5 +19,5 @@ from .triangulation import DegenerateInputError, Triangulation
 from .verification import VerifyReport, verify
 
 __all__ = ["triangulate", "insert", "Delaunay", "DegenerateInputError", "verify", "Triangulation",
-           "VerifyReport", "quadtree", "distributed", "workspace"]
+           "VerifyReport", "quadtree", "distributed", "interpolate", "workspace"]
 __version__ = "0.1.0"
