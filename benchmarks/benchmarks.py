@@ -12,10 +12,12 @@ import time
 
 import numpy as np
 
-import generators
+import generators  # from the repository (benchmarks/__init__.py puts it on sys.path)
 import lfqt
 from lfqt import morton, orders, radix
 from lfqt.workers import Workers
+
+from . import ROOT
 
 
 class TimeTriangulate:
@@ -139,7 +141,9 @@ def _fresh_best_seconds(n, threads, repeats=3):
 
 def _in_fresh_interpreter(code, *args):
     """The last number ``code`` prints, run with ``args`` in a fresh
-    interpreter."""
+    interpreter that finds the repository's generators after the installed
+    packages, as this one does."""
+    code = f"import sys; sys.path.append({ROOT!r})\n" + code
     out = subprocess.run([sys.executable, "-c", code, *map(str, args)],
                          capture_output=True, text=True, check=True).stdout
     return float(out.split()[-1])

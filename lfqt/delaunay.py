@@ -125,7 +125,7 @@ class Delaunay:
     paraboloid_scale, paraboloid_shift : float
         The lift ``|x|^2 * scale + shift``: Qhull's "Qbb" with scipy's "Qz"
         (the lifted range, its top widened by 1.1 for the point at
-        infinity, mapped onto [0, max |coordinate|]), equal to scipy's; 1
+        infinity, mapped onto ``[0, max |coordinate|]``), equal to scipy's; 1
         and 0 in incremental mode, as scipy's.
     good : ndarray of intc, shape (nsimplex,)
         All ones: every simplex is a Delaunay simplex.

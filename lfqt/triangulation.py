@@ -20,6 +20,19 @@ class DegenerateInputError(ValueError):
     Triangulation with ``degenerate=True`` instead.  Where scipy is
     installed, what ``lfqt.Delaunay`` raises is also a
     ``scipy.spatial.QhullError``.
+
+    Examples
+    --------
+    >>> import numpy as np, lfqt
+    >>> line = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
+    >>> try:
+    ...     lfqt.Delaunay(line)
+    ... except lfqt.DegenerateInputError as e:
+    ...     print(e)
+    cannot triangulate: all points collinear
+    >>> tri = lfqt.triangulate(line)  # no error: an empty result, flagged
+    >>> tri.degenerate, tri.simplices.shape, tri.hull.tolist()
+    (True, (0, 3), [0, 2])
     """
 
 

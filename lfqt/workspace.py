@@ -217,6 +217,19 @@ def release() -> None:
     their last use.
 
     The pages of results still alive that they do not use go back to the
-    system too (``keep_range``); the results' arrays stay valid.
+    system too (``keep_range``); the results' arrays stay valid.  Call it
+    after a batch of large triangulations, before the process does
+    something else with its memory.
+
+    Examples
+    --------
+    >>> import numpy as np, lfqt
+    >>> pts = np.random.default_rng(0).random((300_000, 2))
+    >>> tri = lfqt.triangulate(pts)
+    >>> lfqt.workspace.release()  # the call's scratch mappings go now
+    >>> lfqt.workspace.POOL.idle_bytes()
+    0
+    >>> lfqt.verify(pts, tri).ok  # the result's arrays stay valid
+    True
     """
     POOL.release()

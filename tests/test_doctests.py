@@ -9,7 +9,8 @@ import pytest
 # lfqt.distributed's start a Dask cluster: tests/test_distributed.py runs
 # the ones that need none.
 MODULES_WITH_EXAMPLES = ["lfqt.dc", "lfqt.dc.quadtree", "lfqt.incremental", "lfqt.orders",
-                         "lfqt.triangulation", "lfqt.verification", "lfqt.delaunay"]
+                         "lfqt.triangulation", "lfqt.verification", "lfqt.delaunay",
+                         "lfqt.workspace"]
 OPTIONS = doctest.NORMALIZE_WHITESPACE
 
 

@@ -51,6 +51,23 @@ class Quadtree(NamedTuple):
         * ``parent`` (int64): the parent's row, -1 at the root;
         * ``lo``, ``split``, ``hi`` (int64): the node's positions
           [lo, hi) in ``order``, cut at ``split``.
+
+    Examples
+    --------
+    Three points: the root cuts x between the first and the other two, its
+    child cuts y between those.
+
+    >>> import numpy as np, lfqt
+    >>> tree = lfqt.quadtree(np.array([[0.25, 0.25], [0.75, 0.25], [0.75, 0.75]]))
+    >>> tree.order.tolist()
+    [0, 1, 2]
+    >>> root = len(tree.nodes["bit"]) - 1  # children before parents
+    >>> int(tree.nodes["axis"][root]), float(tree.nodes["cut"][root])
+    (0, 0.5)
+    >>> tree.nodes["lo"].tolist(), tree.nodes["split"].tolist(), tree.nodes["hi"].tolist()
+    ([1, 0], [2, 1], [3, 3])
+    >>> tree.nodes["parent"].tolist(), tree.nodes["depth"].tolist()
+    ([1, -1], [1, 0])
     """
     order: npt.NDArray[np.int64]
     nodes: dict[str, npt.NDArray[Any]]
