@@ -4,17 +4,20 @@ Delaunay triangulations.
 Sibson's coordinate of a data point v at a query q is the share of q's
 Voronoi cell, were q inserted, that it takes from v's cell::
 
-        . - - - - .             The cavity: the simplices whose
-       /  x     x  \\            circumcircle strictly contains q
-      /   \\  q  /   \\           (Bowyer-Watson).  Its vertices are the
-     v ----\\---/---- w          natural neighbours; q's new cell (the
-      \\     C_t     /           dashed polygon) is cut out of theirs.
-       \\    / \\    /            Each piece R_v is bounded by pieces of
-        ' - - - - '             v's old Voronoi edges (through the old
-                                circumcentres C_t of the cavity) and by
-                                the bisector of q and v.
+    v2                     v1      Four data points: their Voronoi cells
+                ^                  are the quadrants split by the axes.
+               /|\\                 Inserting q cuts its new cell (the
+              / | \\                diamond, bounded by the bisectors of
+             /R2|R1\\               q and each v_i) out of theirs: R_i is
+            <---q--->              the piece taken from v_i, and
+             \\R3|R4/               lambda_i = |R_i| / sum_j |R_j|.
+              \\ | /                The interpolant is sum_i lambda_i f_i.
+               \\|/
+                v
+    v3                     v4
 
-lambda_v(q) = |R_v| / sum_w |R_w|, and the interpolant is sum_v lambda_v f_v.
+The natural neighbours are the vertices of q's cavity (Bowyer-Watson: the
+simplices whose circumcircle or circumsphere strictly contains q).
 
 Exact where it decides, floating point where it measures:
 
@@ -27,14 +30,20 @@ Exact where it decides, floating point where it measures:
   continuous;
 - the stolen areas and volumes are computed in floating point, relative to
   q, from the old circumcentres and the new ones (of q with each facet of
-  the cavity's boundary).  |R_v| is a sum over its faces of cones from a
-  point on the bisector of q and v, so that the new face (on that
-  bisector) adds nothing and needs no ordering: in 2D each cavity triangle
-  t and each of its edges a->b adds a signed term (Watson's decomposition,
-  split at q so that each triangle's term is local); in 3D each cavity
-  edge (v, x) adds (x - q).A / 12 to v and (q - v).A / 12 to x, with A the
-  vector area of the polygon of circumcentres around the edge, closed by
-  the new circumcentres where its ring of tetrahedra leaves the cavity.
+  the cavity's boundary).  |R_v| is a sum over its faces of cones from the
+  midpoint of q and v, which lies on the new face (the bisector of q and
+  v): that face adds nothing and needs no ordering.  The other faces lie
+  on the old Voronoi edges (faces) of v, whose ends are old circumcentres,
+  or new ones where they leave q's cell.  In 2D each cavity triangle t and
+  each of its edges a->b adds a term linear in the piece of the Voronoi
+  edge from its split point (q, for an edge inside the cavity) to t's
+  circumcentre; in 3D each cavity edge (v, x) adds (x - q).A / 12 to v and
+  (q - v).A / 12 to x, with A the vector area of the polygon of
+  circumcentres around the edge, closed by the new circumcentres where
+  its ring of tetrahedra leaves the cavity.  New circumcentres are needed
+  only on the cavity's boundary, where q is never in the facet's plane
+  for q inside the hull: Watson's classic per-simplex formula also uses
+  them for the cavity's inner edges, and blows up for q on such an edge.
 
 Degenerate queries, each decided exactly:
 
@@ -64,9 +73,11 @@ but below 2**-188 of the frame's scale in 2D, lfqt._input) is taken as 0:
 the interpolant is continuous, so this moves the value by nothing a float
 shows, but it can decide that a query that close outside the hull is on it.
 
-The kernels run one query at a time on fixed scratch arrays; a query whose
-cavity does not fit (many cocircular or cospherical points) is done again
-with four times the scratch, never answered from a partial cavity.
+The kernels run one query at a time on fixed scratch arrays, the queries in
+Morton order (``location.grid_order``) so that consecutive cavities share
+the mesh's cache lines, in chunks over the triangulation's threads.  A query
+whose cavity does not fit (many cocircular or cospherical points) is done
+again with four times the scratch, never answered from a partial cavity.
 """
 import numpy as np
 from numba import njit
@@ -78,43 +89,47 @@ from .workers import Workers
 
 CAPACITY = 64  # simplices in a cavity the first pass has room for (a 3D cavity has about 20)
 MIN_CHUNK = 4096  # queries per thread below which one thread does all
-# rows of the integer scratch
-CAV, REJ, IDS, RING = range(4)
+# rows of the integer scratch: the cavity's simplices, the neighbours tested and left
+# out, the natural neighbours, the hull facets q lies on, and from NBS on, one row per
+# facet i: the cavity slot of the neighbour across facet i of each slot, -1 outside
+CAV, REJ, IDS, RING, NBS = range(5)
 # (v, x, y, z) slot orders of a tetrahedron's six edges, each an even permutation of
 # the right-handed slots, so that turning from y to z turns right-handed about v -> x
 EDGES = np.array([[0, 1, 2, 3], [0, 2, 3, 1], [0, 3, 1, 2],
                   [1, 2, 0, 3], [1, 3, 2, 0], [2, 3, 0, 1]], dtype=np.int64)
 
 
+@njit(cache=True)
 def _scratch(capacity, d):
-    """(integer scratch, weight scratch, point scratch) for cavities of up to
-    ``capacity`` simplices."""
+    """(integers, weights, points) for cavities of up to ``capacity``
+    simplices: the rows above; a weight per natural neighbour; the old
+    circumcentres (rows below capacity), then in 3D the new circumcentre of
+    each cavity facet f of slot s (row capacity + 4 s + f)."""
     width = (d + 2) * capacity
-    return (np.empty((4, width), dtype=np.int64), np.empty(width),
+    return (np.empty((NBS + d + 1, width), dtype=np.int64), np.empty(width),
             np.empty((width, 3)))
 
 
 @njit(cache=True, inline="always")
-def _member(arr, n, x):
+def _slot(iw, row, n, x):
+    """The first k < n with iw[row, k] == x, or -1.  Rows are read in
+    place: a view per call would cost numba two atomic reference counts."""
     for k in range(n):
-        if arr[k] == x:
-            return True
-    return False
+        if iw[row, k] == x:
+            return k
+    return -1
 
 
 @njit(cache=True, inline="always")
-def _slot(arr, n, x):
-    for k in range(n):
-        if arr[k] == x:
-            return k
-    return -1
+def _member(iw, row, n, x):
+    return _slot(iw, row, n, x) >= 0
 
 
 @njit(cache=True, inline="always")
 def _add(iw, w, n, v, amount):
     """w[slot of v] += amount, v appended to the natural neighbours (iw[IDS]
     of length n) when new; returns the new length."""
-    k = _slot(iw[IDS], n, v)
+    k = _slot(iw, IDS, n, v)
     if k < 0:
         iw[IDS, n] = v
         w[n] = amount
@@ -150,28 +165,29 @@ def _conflict(P, S, t, q):
 @njit(cache=True)
 def _cavity(P, S, N, q, t, iw):
     """The cavity of q from simplex t, which holds q and is in it: its
-    simplices in iw[CAV], the neighbours tested and left out in iw[REJ];
-    returns their number, -1 when the scratch is full."""
-    cav, rej = iw[CAV], iw[REJ]
-    cav[0] = t
+    simplices in iw[CAV] and their neighbours' slots in iw[NBS + i] (the
+    neighbours tested and left out in iw[REJ]); returns their number, -1
+    when the scratch is full."""
+    iw[CAV, 0] = t
     nc, nr, head = 1, 0, 0
     while head < nc:
-        c = cav[head]
-        head += 1
+        c = iw[CAV, head]
         for i in range(S.shape[1]):
             u = N[c, i]
-            if u < 0 or _member(cav, nc, u) or _member(rej, nr, u):
-                continue
-            if _conflict(P, S, u, q):
-                if nc == cav.shape[0] // (S.shape[1] + 2):
-                    return -1
-                cav[nc] = u
-                nc += 1
-            else:
-                if nr == rej.shape[0]:
-                    return -1
-                rej[nr] = u
-                nr += 1
+            k = -1
+            if u >= 0 and not _member(iw, REJ, nr, u):
+                k = _slot(iw, CAV, nc, u)
+                if k < 0 and _conflict(P, S, u, q):
+                    if nc == iw.shape[1] // (S.shape[1] + 1):
+                        return -1
+                    k = nc
+                    iw[CAV, nc] = u
+                    nc += 1
+                elif k < 0:
+                    iw[REJ, nr] = u  # fits: at most d + 1 per cavity simplex
+                    nr += 1
+            iw[NBS + i, head] = k
+        head += 1
     return nc
 
 
@@ -236,7 +252,7 @@ def _sibson2(P, S, N, q, t, iw, w):
             px, py, _ = _rel(P, a, q)
             rx, ry, _ = _rel(P, b, q)
             gx, gy = 0.0, 0.0
-            if not _member(iw[CAV], nc, N[t, i]):
+            if iw[NBS + i, s] < 0:
                 gx, gy = _centre2(0.0, 0.0, px, py, rx, ry)
             dx, dy = ox - gx, oy - gy
             n = _add(iw, w, n, a, 0.25 * (rx * dy - ry * dx))
@@ -337,68 +353,87 @@ def _new_centre(P, q, v, x, y):
 
 
 @njit(cache=True)
-def _ring_start(S, N, iw, nc, s, edge):
+def _ring_start(S, iw, s, edge):
     """Whether cavity slot s starts the run of cavity tetrahedra around the
     edge (v, x) of ``edge`` = (v, x, y, z) (y, z: the other vertices of s,
     right-handed): the tetrahedron behind it (across the facet opposite z)
     is not in the cavity, or the ring is closed and s is its first slot."""
     v, x, y, z = edge
-    t = iw[CAV, s]
-    for _ in range(nc + 1):
-        u = N[t, _vertex_of(S, t, z)]
-        k = _slot(iw[CAV], nc, u) if u >= 0 else -1
-        if k < 0:
-            return t == iw[CAV, s]
-        if k <= s:
+    k = s
+    while True:
+        t = iw[CAV, k]
+        behind = iw[NBS + _vertex_of(S, t, z), k]
+        if behind < 0:
             return k == s
-        y, z = _fourth(S, u, v, x, y), y
-        t = u
-    return False
+        if behind <= s:
+            return behind == s
+        y, z = _fourth(S, iw[CAV, behind], v, x, y), y
+        k = behind
+
+
+@njit(cache=True, inline="always")
+def _centre_of(C, k):
+    return C[k, 0], C[k, 1], C[k, 2]
 
 
 @njit(cache=True)
-def _edge_area(P, S, N, q, iw, nc, s, edge, C):
+def _edge_area(S, iw, s, edge, C):
     """Twice the vector area (right-handed about v -> x) of the face of the
     Voronoi cells of v and x inside q's new cell, for ``edge`` = (v, x, y,
     z) of slot s as in ``_ring_start``: the old circumcentres C of the run
     of cavity tetrahedra around the edge, from s, closed by the new
     circumcentres where the run leaves the cavity."""
     v, x, y, z = edge
-    t = iw[CAV, s]
-    open_run = not _member(iw[CAV], nc, N[t, _vertex_of(S, t, z)])
-    first = _new_centre(P, q, v, x, y) if open_run else (C[s, 0], C[s, 1], C[s, 2])
+    new = iw.shape[1] // 5  # the new circumcentres' first row in C
+    j = _vertex_of(S, iw[CAV, s], z)
+    open_run = iw[NBS + j, s] < 0
+    first = _centre_of(C, new + 4 * s + j if open_run else s)
     p = first
     area = (0.0, 0.0, 0.0)
     k = s
-    for _ in range(nc + 1):
+    while True:
         if k != s or open_run:
-            c = (C[k, 0], C[k, 1], C[k, 2])
+            c = _centre_of(C, k)
             area = _plus(area, _cross(p, c))
             p = c
-        u = N[t, _vertex_of(S, t, y)]
-        nxt = _slot(iw[CAV], nc, u) if u >= 0 else -1
+        j = _vertex_of(S, iw[CAV, k], y)
+        nxt = iw[NBS + j, k]
         if nxt < 0:  # the run leaves the cavity through the facet (v, x, z)
-            g = _new_centre(P, q, v, x, z)
+            g = _centre_of(C, new + 4 * k + j)
             area = _plus(area, _cross(p, g))
             p = g
             break
         if nxt == s:
             break
-        y, z = z, _fourth(S, u, v, x, z)
-        t, k = u, nxt
+        y, z = z, _fourth(S, iw[CAV, nxt], v, x, z)
+        k = nxt
     return _plus(area, _cross(p, first))
 
 
 @njit(cache=True)
-def _sibson3(P, S, N, q, nc, iw, w, C):
-    """Natural neighbours of q in iw[IDS] and their stolen volumes (times
-    12) in w, for q inside the hull with its cavity in iw[CAV]; returns
-    their number.  Each cavity edge (v, x) adds the cones over its face
-    from the midpoints of q and v and of q and x (module docstring)."""
+def _centres3(P, S, q, nc, iw, C):
+    """The circumcentres of the cavity's tetrahedra, and the new ones of q
+    with each facet of the cavity's boundary, relative to q (rows of C as
+    in ``_scratch``)."""
+    new = iw.shape[1] // 5
     for s in range(nc):
         t = iw[CAV, s]
         C[s, 0], C[s, 1], C[s, 2] = _centre3(_vec(P, S[t, 0], q), _vec(P, S[t, 1], q),
                                              _vec(P, S[t, 2], q), _vec(P, S[t, 3], q))
+        for j in range(4):
+            if iw[NBS + j, s] < 0:
+                a, b, c = _others(S, t, j)
+                r = new + 4 * s + j
+                C[r, 0], C[r, 1], C[r, 2] = _new_centre(P, q, a, b, c)
+
+
+@njit(cache=True)
+def _sibson3(P, S, q, nc, iw, w, C):
+    """Natural neighbours of q in iw[IDS] and their stolen volumes (times
+    12) in w, for q inside the hull with its cavity in iw[CAV]; returns
+    their number.  Each cavity edge (v, x) adds the cones over its face
+    from the midpoints of q and v and of q and x (module docstring)."""
+    _centres3(P, S, q, nc, iw, C)
     n = 0
     for s in range(nc):
         t = iw[CAV, s]
@@ -407,9 +442,9 @@ def _sibson3(P, S, N, q, nc, iw, w, C):
             y, z = S[t, EDGES[e, 2]], S[t, EDGES[e, 3]]
             if v > x:  # one direction per edge, so that its run has one start
                 v, x, y, z = x, v, z, y
-            if not _ring_start(S, N, iw, nc, s, (v, x, y, z)):
+            if not _ring_start(S, iw, s, (v, x, y, z)):
                 continue
-            area = _edge_area(P, S, N, q, iw, nc, s, (v, x, y, z), C)
+            area = _edge_area(S, iw, s, (v, x, y, z), C)
             n = _add(iw, w, n, v, _dot(_vec(P, x, q), area))
             n = _add(iw, w, n, x, -_dot(_vec(P, v, q), area))
     return n
@@ -429,7 +464,7 @@ def _weights3(P, S, N, q, t, iw, w, C):
     nh = _hull_facets(P, S, N, q, nc, iw)
     if nh > 0:
         return _on_hull3(P, S, q, nh, iw, w)
-    return _sibson3(P, S, N, q, nc, iw, w, C)
+    return _sibson3(P, S, q, nc, iw, w, C)
 
 
 @njit(cache=True, inline="always")
@@ -590,10 +625,7 @@ def _interpolate(P, S, N, values, Q, simplex, fill, out, rows, capacity):
     Returns how many queries had a cavity of more than ``capacity``
     simplices; their rows are moved to the front of ``rows``."""
     d = P.shape[1]
-    width = (d + 2) * capacity
-    iw = np.empty((4, width), dtype=np.int64)
-    w = np.empty(width)
-    C = np.empty((width, 3))
+    iw, w, C = _scratch(capacity, d)
     q = np.empty(d)
     failed = 0
     for r in range(rows.shape[0]):
