@@ -40,10 +40,12 @@ Exact where it decides, floating point where it measures:
   circumcentre; in 3D each cavity edge (v, x) adds (x - q).A / 12 to v and
   (q - v).A / 12 to x, with A the vector area of the polygon of
   circumcentres around the edge, closed by the new circumcentres where
-  its ring of tetrahedra leaves the cavity.  New circumcentres are needed
-  only on the cavity's boundary, where q is never in the facet's plane
-  for q inside the hull: Watson's classic per-simplex formula also uses
-  them for the cavity's inner edges, and blows up for q on such an edge.
+  its ring of tetrahedra leaves the cavity; A is summed from one part per
+  cavity tetrahedron (``_edge_part``), so no ring is walked.  New
+  circumcentres are needed only on the cavity's boundary, where q is
+  never in a facet's plane for q inside the hull: Watson's classic
+  per-simplex formula also uses them for the cavity's inner edges, and
+  blows up for q on such an edge.
 
 Degenerate queries, each decided exactly:
 
@@ -146,7 +148,7 @@ def _rel(P, v, q):
     return P[v, 0] - q[0], P[v, 1] - q[1], P[v, 2] - q[2]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _conflict(P, S, t, q):
     """Whether q lies strictly inside the circumcircle (circumsphere) of
     simplex t: the exact sign of the staged predicate."""
@@ -352,62 +354,45 @@ def _new_centre(P, q, v, x, y):
     return _centre3((0.0, 0.0, 0.0), _vec(P, v, q), _vec(P, x, q), _vec(P, y, q))
 
 
-@njit(cache=True)
-def _ring_start(S, iw, s, edge):
-    """Whether cavity slot s starts the run of cavity tetrahedra around the
-    edge (v, x) of ``edge`` = (v, x, y, z) (y, z: the other vertices of s,
-    right-handed): the tetrahedron behind it (across the facet opposite z)
-    is not in the cavity, or the ring is closed and s is its first slot."""
-    v, x, y, z = edge
-    k = s
-    while True:
-        t = iw[CAV, k]
-        behind = iw[NBS + _vertex_of(S, t, z), k]
-        if behind < 0:
-            return k == s
-        if behind <= s:
-            return behind == s
-        y, z = _fourth(S, iw[CAV, behind], v, x, y), y
-        k = behind
-
-
 @njit(cache=True, inline="always")
 def _centre_of(C, k):
     return C[k, 0], C[k, 1], C[k, 2]
 
 
-@njit(cache=True)
-def _edge_area(S, iw, s, edge, C):
-    """Twice the vector area (right-handed about v -> x) of the face of the
-    Voronoi cells of v and x inside q's new cell, for ``edge`` = (v, x, y,
-    z) of slot s as in ``_ring_start``: the old circumcentres C of the run
-    of cavity tetrahedra around the edge, from s, closed by the new
-    circumcentres where the run leaves the cavity."""
+@njit(cache=True, inline="always")
+def _edge_part(P, S, q, iw, s, edge, C):
+    """Slot s's part of twice the vector area A (right-handed about v -> x)
+    of the face of v's and x's Voronoi cells inside q's new cell, for its
+    ``edge`` = (v, x, y, z) (y, z: its other vertices, right-handed).  The
+    face is the polygon of the old circumcentres of the run of cavity
+    tetrahedra around the edge (the whole ring, when every tetrahedron
+    around it is in the cavity), entered and left through the new
+    circumcentres g_in, g_out of the facets where the run crosses the
+    cavity's boundary, and closed by the segment g_out -> g_in.  Slot s
+    adds its segment to the next circumcentre round the edge; the run's
+    first slot adds g_in -> C_s, and its last C_s -> g_out.  The closing
+    segment lies on the line of points equidistant from q, v and x, which
+    holds the circumcentre h of (q, v, x), so that its term cross(g_out,
+    g_in) = cross(h, g_in) - cross(h, g_out) splits between the first and
+    the last slot: each slot's part is local, and no slot walks the ring.
+    h is finite there: q is never in the plane of a boundary facet."""
     v, x, y, z = edge
     new = iw.shape[1] // 5  # the new circumcentres' first row in C
-    j = _vertex_of(S, iw[CAV, s], z)
-    open_run = iw[NBS + j, s] < 0
-    first = _centre_of(C, new + 4 * s + j if open_run else s)
-    p = first
-    area = (0.0, 0.0, 0.0)
-    k = s
-    while True:
-        if k != s or open_run:
-            c = _centre_of(C, k)
-            area = _plus(area, _cross(p, c))
-            p = c
-        j = _vertex_of(S, iw[CAV, k], y)
-        nxt = iw[NBS + j, k]
-        if nxt < 0:  # the run leaves the cavity through the facet (v, x, z)
-            g = _centre_of(C, new + 4 * k + j)
-            area = _plus(area, _cross(p, g))
-            p = g
-            break
-        if nxt == s:
-            break
-        y, z = z, _fourth(S, iw[CAV, nxt], v, x, z)
-        k = nxt
-    return _plus(area, _cross(p, first))
+    t = iw[CAV, s]
+    c = _centre_of(C, s)
+    j = _vertex_of(S, t, y)  # round the edge: across the facet opposite y
+    after = iw[NBS + j, s]
+    if after >= 0:
+        part = _cross(c, _centre_of(C, after))
+    else:
+        g = _centre_of(C, new + 4 * s + j)
+        part = _sub(_cross(c, g), _cross(_tri_centre(_vec(P, v, q), _vec(P, x, q)), g))
+    j = _vertex_of(S, t, z)
+    if iw[NBS + j, s] < 0:
+        g = _centre_of(C, new + 4 * s + j)
+        h = _tri_centre(_vec(P, v, q), _vec(P, x, q))
+        part = _plus(part, _plus(_cross(g, c), _cross(h, g)))
+    return part
 
 
 @njit(cache=True)
@@ -434,19 +419,21 @@ def _sibson3(P, S, q, nc, iw, w, C):
     their number.  Each cavity edge (v, x) adds the cones over its face
     from the midpoints of q and v and of q and x (module docstring)."""
     _centres3(P, S, q, nc, iw, C)
+    acc = np.empty(4)  # the slot's parts per vertex, added to w once per vertex
     n = 0
     for s in range(nc):
         t = iw[CAV, s]
+        acc[:] = 0.0
         for e in range(6):
-            v, x = S[t, EDGES[e, 0]], S[t, EDGES[e, 1]]
-            y, z = S[t, EDGES[e, 2]], S[t, EDGES[e, 3]]
-            if v > x:  # one direction per edge, so that its run has one start
-                v, x, y, z = x, v, z, y
-            if not _ring_start(S, iw, s, (v, x, y, z)):
-                continue
-            area = _edge_area(S, iw, s, (v, x, y, z), C)
-            n = _add(iw, w, n, v, _dot(_vec(P, x, q), area))
-            n = _add(iw, w, n, x, -_dot(_vec(P, v, q), area))
+            i, j = EDGES[e, 0], EDGES[e, 1]
+            v, x, y, z = S[t, i], S[t, j], S[t, EDGES[e, 2]], S[t, EDGES[e, 3]]
+            if v > x:  # one direction per edge, so that its slots' parts join up
+                i, j, v, x, y, z = j, i, x, v, z, y
+            area = _edge_part(P, S, q, iw, s, (v, x, y, z), C)
+            acc[i] += _dot(_vec(P, x, q), area)
+            acc[j] -= _dot(_vec(P, v, q), area)
+        for i in range(4):
+            n = _add(iw, w, n, S[t, i], acc[i])
     return n
 
 
