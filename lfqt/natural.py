@@ -247,10 +247,11 @@ def _sibson2(P, S, N, q, t, iw, w):
         ox, oy = _centre2(ax, ay, bx, by, cx, cy)
         for i in range(3):
             a, b = _edge(S, t, i)  # t lies left of a -> b
-            # R_a's boundary runs along the bisector of a and b from the far side to the
-            # circumcentre of t: from the far side's circumcentre when that triangle is in
-            # the cavity (split at q, which the far side's own term starts from), else from
-            # the new circumcentre of (q, a, b)
+            # Counter-clockwise round R_a, its piece d of the bisector of a and b runs from
+            # the far side to t's circumcentre: from q, where the far side's own term (if
+            # that triangle is in the cavity) starts, else from the new circumcentre of
+            # (q, a, b).  The cone over d from (q + a) / 2 has area (b - q) x d / 4, and the
+            # cone over the same piece, reversed, from (q + b) / 2 has -(a - q) x d / 4.
             px, py, _ = _rel(P, a, q)
             rx, ry, _ = _rel(P, b, q)
             gx, gy = 0.0, 0.0
@@ -380,17 +381,18 @@ def _edge_part(P, S, q, iw, s, edge, C):
     new = iw.shape[1] // 5  # the new circumcentres' first row in C
     t = iw[CAV, s]
     c = _centre_of(C, s)
-    j = _vertex_of(S, t, y)  # round the edge: across the facet opposite y
-    after = iw[NBS + j, s]
-    if after >= 0:
-        part = _cross(c, _centre_of(C, after))
-    else:
-        g = _centre_of(C, new + 4 * s + j)
-        part = _sub(_cross(c, g), _cross(_tri_centre(_vec(P, v, q), _vec(P, x, q)), g))
-    j = _vertex_of(S, t, z)
-    if iw[NBS + j, s] < 0:
-        g = _centre_of(C, new + 4 * s + j)
-        h = _tri_centre(_vec(P, v, q), _vec(P, x, q))
+    ahead, behind = _vertex_of(S, t, y), _vertex_of(S, t, z)  # round the edge: y -> z
+    nxt, prev = iw[NBS + ahead, s], iw[NBS + behind, s]
+    if nxt >= 0 and prev >= 0:  # inside the run: the common case, no new circumcentre
+        return _cross(c, _centre_of(C, nxt))
+    h = _tri_centre(_vec(P, v, q), _vec(P, x, q))
+    if nxt >= 0:
+        part = _cross(c, _centre_of(C, nxt))
+    else:  # the run's last slot
+        g = _centre_of(C, new + 4 * s + ahead)
+        part = _sub(_cross(c, g), _cross(h, g))
+    if prev < 0:  # the run's first slot
+        g = _centre_of(C, new + 4 * s + behind)
         part = _plus(part, _plus(_cross(g, c), _cross(h, g)))
     return part
 
@@ -640,12 +642,23 @@ def _frame_queries(tri, xi):
     """(queries in the frame of tri, their simplices): a component that the
     frame cannot hold (nonzero, below its floor once scaled) is taken as 0,
     and the simplices are those of the queries so changed."""
-    Q = xi * tri._scale
+    with np.errstate(over="ignore"):  # far outside the box: inf, and find_simplex says -1
+        Q = xi * tri._scale
     tiny = (Q != 0.0) & (np.abs(Q) < tri._floor)
     if tiny.any():
         Q[tiny] = 0.0
         xi = np.where(tiny, 0.0, xi)
     return Q, np.ascontiguousarray(tri.find_simplex(xi), dtype=np.int64)
+
+
+def _larger(capacity, tri):
+    """Four times the scratch; a cavity never holds more than every simplex,
+    so a query that did not fit that is a bug, reported rather than looped
+    on or answered."""
+    if capacity > tri.nsimplex:
+        raise RuntimeError("lfqt.natural: a cavity did not fit the scratch for every simplex "
+                           "of the mesh; please report this with the data")
+    return 4 * capacity
 
 
 def interpolate(tri, values, xi, fill_value):
@@ -654,17 +667,40 @@ def interpolate(tri, values, xi, fill_value):
     Parameters
     ----------
     tri : lfqt.Delaunay
-        2D or 3D.
+        2D or 3D; its ``threads`` serve the queries too.
     values : ndarray of float64, shape (npoints, k), C-contiguous
         The data, one row per input point (a duplicate row's value is not
         used: its location takes the value of the row kept as the vertex).
     xi : ndarray of float64, shape (m, ndim)
     fill_value : float
-        The value outside the convex hull.
+        The value outside the convex hull (and at NaN queries).
 
     Returns
     -------
     ndarray of float64, shape (m, k)
+
+    Raises
+    ------
+    ValueError
+        ``values`` or ``xi`` of the wrong shape.
+
+    Notes
+    -----
+    On the hull the value is the limit from inside (module docstring): in
+    2D linear along the hull edge.  The natural neighbours are exact; the
+    weights are accurate to a few ulps of their sum in well-shaped
+    configurations.
+
+    Examples
+    --------
+    >>> import numpy as np, lfqt
+    >>> from lfqt import natural
+    >>> pts = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [0.5, 0.6]])
+    >>> tri = lfqt.Delaunay(pts)
+    >>> f = pts @ [[1.0], [2.0]]                  # x + 2y: reproduced exactly
+    >>> natural.interpolate(tri, f, np.array([[0.3, 0.25], [2.0, 0.0]]), np.nan)
+    array([[0.8],
+           [nan]])
     """
     values = np.ascontiguousarray(values, dtype=np.float64)
     xi = np.ascontiguousarray(xi, dtype=np.float64)
@@ -675,16 +711,19 @@ def interpolate(tri, values, xi, fill_value):
     Q, simplex = _frame_queries(tri, xi)
     out = np.empty((len(xi), values.shape[1]))
     P, S, N = tri._frame(), tri.simplices, tri.neighbors
-    rows = grid_order(Q)  # curve order: consecutive cavities share the mesh's cache lines
+    # curve order: consecutive cavities share the mesh's cache lines (docs/performance.md,
+    # "natural-neighbour queries")
+    rows = grid_order(Q)
     capacity = CAPACITY
-    while len(rows):
+    while True:
         workers = tri._workers() if len(rows) > MIN_CHUNK else Workers(1)
         chunks = workers.chunks(len(rows), min_chunk=MIN_CHUNK)
         failed = workers.map(chunks, lambda c, lo, hi: _interpolate(
             P, S, N, values, Q, simplex, float(fill_value), out, rows[lo:hi], capacity))
+        if not any(failed):
+            return out
         rows = np.concatenate([rows[lo:lo + f] for (lo, _), f in zip(chunks, failed)])
-        capacity *= 4
-    return out
+        capacity = _larger(capacity, tri)
 
 
 def weights(tri, q):
@@ -701,8 +740,20 @@ def weights(tri, q):
         Rows of ``tri.points`` (vertices: a duplicate row is represented by
         the row kept), in increasing order; empty outside the hull.
     weights : ndarray of float64
-        Their coordinates: nonnegative, summing to 1, and q = sum of
-        weights * points.
+        Their coordinates: nonnegative (up to rounding), summing to 1, and
+        q = sum of weights * points.
+
+    Examples
+    --------
+    >>> import numpy as np, lfqt
+    >>> from lfqt import natural
+    >>> pts = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [0.5, 0.6]])
+    >>> tri = lfqt.Delaunay(pts)
+    >>> natural.weights(tri, [0.5, 0.0])         # on the hull: linear along its edge
+    (array([0, 1]), array([0.5, 0.5]))
+    >>> ids, w = natural.weights(tri, [0.3, 0.25])
+    >>> ids, np.round(w, 4)
+    (array([0, 1, 2, 4]), array([0.4873, 0.1134, 0.0261, 0.3731]))
     """
     xi = np.asarray(q, dtype=np.float64).reshape(1, -1)
     if xi.shape[1] != tri.ndim:
@@ -716,6 +767,6 @@ def weights(tri, q):
         n = _weights(tri._frame(), tri.simplices, tri.neighbors, Q[0], simplex[0], iw, w, C)
         if n >= 0:
             break
-        capacity *= 4
+        capacity = _larger(capacity, tri)
     order = np.argsort(iw[IDS, :n], kind="stable")
     return iw[IDS, :n][order].copy(), w[:n][order].copy()

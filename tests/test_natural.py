@@ -187,7 +187,8 @@ def test_3d_hull_ridge_is_linear_and_outside_is_fill(rng):
     got = _value(tri, np.c_[pts[:, 0], pts[:, 1]], [[1.5, 0.5, 0.5], [np.nan, 0.5, 0.5],
                                                     [0.5, 0.5, -1e-300]], fill=-7.0)
     assert np.all(got[:2] == -7.0)
-    assert np.allclose(got[2], [0.5, 0.5], rtol=0, atol=1e-15)  # -1e-300 is taken as 0: on the hull
+    # -1e-300 is taken as 0: on the hull
+    assert np.allclose(got[2], [0.5, 0.5], rtol=0, atol=1e-15)
     assert natural.weights(tri, [2.0, 0.5, 0.5])[0].size == 0
 
 
@@ -254,3 +255,10 @@ def test_rejects_misshapen_input(rng):
         natural.interpolate(tri, np.zeros((10, 1)), np.zeros((1, 3)), 0.0)
     with pytest.raises(ValueError):
         natural.weights(tri, [0.5, 0.5, 0.5])
+
+
+def test_the_docstring_examples_run():
+    import doctest
+    failed, attempted = doctest.testmod(natural, globs={}, report=False,
+                                        optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert attempted > 0 and failed == 0
