@@ -199,6 +199,21 @@ def test_a_query_component_below_the_frame_is_taken_as_zero(rng):
     assert np.allclose(got[:, 0], 0.25, rtol=0, atol=1e-15)
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_scaling_by_a_power_of_two_changes_no_bit(dim, rng):
+    """The triangulation's frame is an exact power-of-two rescale, and every
+    weight is a ratio of terms of one degree: data and queries far from 1,
+    tiny or huge, give the values of the same data near 1, bit for bit."""
+    pts = rng.random((40, dim))
+    xi = np.r_[0.2 + 0.6 * rng.random((20, dim)), pts[:2], np.full((1, dim), 2.0)]  # and outside
+    values = rng.standard_normal((40, 2))
+    base = natural.interpolate(_built(pts), values, xi, np.nan)
+    for e in (600, -1000):
+        f = 2.0 ** e
+        got = natural.interpolate(_built(pts * f), values, xi * f, np.nan)
+        assert np.array_equal(got, base, equal_nan=True)
+
+
 def test_threads_give_the_same_values(rng):
     pts = rng.random((3000, 2))
     one, two = _built(pts), _built(pts, threads=2)
