@@ -81,13 +81,21 @@ the mesh's cache lines, in chunks over the triangulation's threads.  A query
 whose cavity does not fit (many cocircular or cospherical points) is done
 again with four times the scratch, never answered from a partial cavity.
 """
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
+import numpy.typing as npt
 from numba import njit
 
 from .location import _edge, _others, grid_order
 from .predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
 from .predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 from .workers import Workers
+
+if TYPE_CHECKING:  # annotations only: the interpolant reads a built Delaunay
+    from .delaunay import Delaunay
 
 CAPACITY = 64  # simplices in a cavity the first pass has room for (a 3D cavity has about 20)
 MIN_CHUNK = 4096  # queries per thread below which one thread does all
@@ -661,7 +669,8 @@ def _larger(capacity, tri):
     return 4 * capacity
 
 
-def interpolate(tri, values, xi, fill_value):
+def interpolate(tri: Delaunay, values: npt.ArrayLike, xi: npt.ArrayLike,
+                fill_value: float) -> npt.NDArray[np.float64]:
     """The natural-neighbour (Sibson) interpolant of ``values`` at ``xi``.
 
     Parameters
@@ -726,7 +735,8 @@ def interpolate(tri, values, xi, fill_value):
         capacity = _larger(capacity, tri)
 
 
-def weights(tri, q):
+def weights(tri: Delaunay, q: npt.ArrayLike
+            ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
     """The natural neighbours of one point and their Sibson coordinates.
 
     Parameters
