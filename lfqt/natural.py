@@ -65,13 +65,15 @@ Degenerate queries, each decided exactly:
   proportional to the integral over v's stolen region *in that plane* (the
   2D Voronoi diagram of the data points in it, which the hull facets in it
   triangulate) of |y - v|^2 - |y - q|^2.  That integrand is linear in y, so
-  it is computed exactly like an area, from a fan of triangles.  On a hull
-  edge where two faces of different planes meet, the limit is linear along
-  that edge;
+  it is computed like an area, from a fan of triangles.  On a hull edge
+  where two faces of different planes meet, the limit (from any side) is
+  linear along that edge.  The tests check each limit against values a
+  hair inside, which approach it at the rate of the distance;
 - q outside the hull (exactly: ``find_simplex`` < 0): ``fill_value``.
 
 A query coordinate too small for the triangulation's exact frame (nonzero
-but below 2**-188 of the frame's scale in 2D, lfqt._input) is taken as 0:
+but below the frame's floor once scaled: 2**-188 in 2D, 2**-140 in 3D,
+lfqt._input) is taken as 0:
 the interpolant is continuous, so this moves the value by nothing a float
 shows, but it can decide that a query that close outside the hull is on it.
 
