@@ -65,13 +65,15 @@ Degenerate queries, each decided exactly:
   proportional to the integral over v's stolen region *in that plane* (the
   2D Voronoi diagram of the data points in it, which the hull facets in it
   triangulate) of |y - v|^2 - |y - q|^2.  That integrand is linear in y, so
-  it is computed exactly like an area, from a fan of triangles.  On a hull
-  edge where two faces of different planes meet, the limit is linear along
-  that edge;
+  it is computed like an area, from a fan of triangles.  On a hull edge
+  where two faces of different planes meet, the limit (from any side) is
+  linear along that edge.  The tests check each limit against values a
+  hair inside, which approach it at the rate of the distance;
 - q outside the hull (exactly: ``find_simplex`` < 0): ``fill_value``.
 
 A query coordinate too small for the triangulation's exact frame (nonzero
-but below 2**-188 of the frame's scale in 2D, lfqt._input) is taken as 0:
+but below the frame's floor once scaled: 2**-188 in 2D, 2**-140 in 3D,
+lfqt._input) is taken as 0:
 the interpolant is continuous, so this moves the value by nothing a float
 shows, but it can decide that a query that close outside the hull is on it.
 
@@ -150,7 +152,7 @@ def _add(iw, w, n, v, amount):
 
 @njit(cache=True, inline="always")
 def _rel(P, v, q):
-    """Vertex v relative to q, as three floats (z = 0 in 2D)."""
+    """Vertex v relative to q, as a 3-tuple (z = 0 in 2D)."""
     if P.shape[1] == 2:
         return P[v, 0] - q[0], P[v, 1] - q[1], 0.0
     return P[v, 0] - q[0], P[v, 1] - q[1], P[v, 2] - q[2]
@@ -292,12 +294,6 @@ def _weights2(P, S, N, q, t, iw, w):
 # Points are 3-tuples of floats relative to q, so that each helper reads as vector algebra.
 
 @njit(cache=True, inline="always")
-def _vec(P, v, q):
-    """Vertex v relative to q, as a 3-tuple."""
-    return P[v, 0] - q[0], P[v, 1] - q[1], P[v, 2] - q[2]
-
-
-@njit(cache=True, inline="always")
 def _sub(a, b):
     return a[0] - b[0], a[1] - b[1], a[2] - b[2]
 
@@ -360,7 +356,7 @@ def _fourth(S, t, v, x, y):
 @njit(cache=True, inline="always")
 def _new_centre(P, q, v, x, y):
     """Circumcentre of the new tetrahedron (q, v, x, y), relative to q."""
-    return _centre3((0.0, 0.0, 0.0), _vec(P, v, q), _vec(P, x, q), _vec(P, y, q))
+    return _centre3((0.0, 0.0, 0.0), _rel(P, v, q), _rel(P, x, q), _rel(P, y, q))
 
 
 @njit(cache=True, inline="always")
@@ -393,7 +389,7 @@ def _edge_part(P, S, q, iw, s, edge, C):
     nxt, prev = iw[NBS + ahead, s], iw[NBS + behind, s]
     if nxt >= 0 and prev >= 0:  # inside the run: the common case, no new circumcentre
         return _cross(c, _centre_of(C, nxt))
-    h = _tri_centre(_vec(P, v, q), _vec(P, x, q))
+    h = _tri_centre(_rel(P, v, q), _rel(P, x, q))
     if nxt >= 0:
         part = _cross(c, _centre_of(C, nxt))
     else:  # the run's last slot
@@ -413,8 +409,8 @@ def _centres3(P, S, q, nc, iw, C):
     new = iw.shape[1] // 5
     for s in range(nc):
         t = iw[CAV, s]
-        C[s, 0], C[s, 1], C[s, 2] = _centre3(_vec(P, S[t, 0], q), _vec(P, S[t, 1], q),
-                                             _vec(P, S[t, 2], q), _vec(P, S[t, 3], q))
+        C[s, 0], C[s, 1], C[s, 2] = _centre3(_rel(P, S[t, 0], q), _rel(P, S[t, 1], q),
+                                             _rel(P, S[t, 2], q), _rel(P, S[t, 3], q))
         for j in range(4):
             if iw[NBS + j, s] < 0:
                 a, b, c = _others(S, t, j)
@@ -440,8 +436,8 @@ def _sibson3(P, S, q, nc, iw, w, C):
             if v > x:  # one direction per edge, so that its slots' parts join up
                 i, j, v, x, y, z = j, i, x, v, z, y
             area = _edge_part(P, S, q, iw, s, (v, x, y, z), C)
-            acc[i] += _dot(_vec(P, x, q), area)
-            acc[j] -= _dot(_vec(P, v, q), area)
+            acc[i] += _dot(_rel(P, x, q), area)
+            acc[j] -= _dot(_rel(P, v, q), area)
         for i in range(4):
             n = _add(iw, w, n, S[t, i], acc[i])
     return n
@@ -583,10 +579,10 @@ def _plane_limit(P, S, q, nh, iw, w):
     n = 0
     for h in range(nh):
         a, b, c = _outward(S, iw[RING, h])
-        pa = _vec(P, a, q)
-        centre = _plus(pa, _tri_centre(_sub(_vec(P, b, q), pa), _sub(_vec(P, c, q), pa)))
+        pa = _rel(P, a, q)
+        centre = _plus(pa, _tri_centre(_sub(_rel(P, b, q), pa), _sub(_rel(P, c, q), pa)))
         for (u, v) in ((a, b), (b, c), (c, a)):
-            pu, pv = _vec(P, u, q), _vec(P, v, q)
+            pu, pv = _rel(P, u, q), _rel(P, v, q)
             if _shared(S, iw, nh, h, u, v):
                 base = _times(0.5, _plus(pu, pv))
             else:

@@ -184,6 +184,10 @@ def test_3d_hull_ridge_is_linear_and_outside_is_fill(rng):
     tri = _built(pts)
     ids, w = natural.weights(tri, [0.4, 0.0, 0.0])  # the cube's edge from corner 0 to 4
     assert list(ids) == [0, 4] and np.allclose(w, [0.6, 0.4], rtol=0, atol=1e-15)
+    ridge = np.zeros(len(pts))
+    ridge[[0, 4]] = 0.6, 0.4
+    for near in ([0.4, 1e-8, 1e-8], [0.4, 0.0, 1e-8], [0.4, 1e-8, 1e-10]):  # inside, on a face
+        assert np.abs(_dense(tri, near) - ridge).max() < 1e-6
     got = _value(tri, np.c_[pts[:, 0], pts[:, 1]], [[1.5, 0.5, 0.5], [np.nan, 0.5, 0.5],
                                                     [0.5, 0.5, -1e-300]], fill=-7.0)
     assert np.all(got[:2] == -7.0)
