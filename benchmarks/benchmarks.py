@@ -245,6 +245,82 @@ class TimeNearDegenerate:
     track_sphere_exact_stage_calls.unit = "count"
 
 
+class TimeLocate:
+    """find_simplex on a built mesh, in random and in curve order (issue 51:
+    1M queries on a 1M-point 2D mesh, on a 300k-point 3D mesh)."""
+    params = ([2, 3], [100_000, 1_000_000], ["random", "sorted"])
+    param_names = ["dim", "n", "order"]
+    timeout = 300
+
+    def setup(self, d, n, order):
+        if d == 3 and n > 300_000:
+            n = 300_000
+        rng = np.random.default_rng(0)
+        self.tri = lfqt.Delaunay(rng.random((n, d)), threads=1)
+        self.q = rng.random((n if d == 2 else min(1_000_000, 4 * n), d))
+        if order == "sorted":
+            self.q = np.ascontiguousarray(self.q[orders.order(self.q, "hilbert")[0]])
+        self.tri.find_simplex(self.q)  # kernels, and the walk's renumbered frame
+
+    def time_find_simplex(self, d, n, order):
+        self.tri.find_simplex(self.q)
+
+
+class TimeInterpolate:
+    """LinearNDInterpolator and griddata's other methods on a built mesh,
+    evaluated on a grid (issue 51)."""
+    params = ([10_000, 1_000_000], ["linear", "cubic", "natural"])
+    param_names = ["n", "method"]
+    timeout = 300
+
+    def setup(self, n, method):
+        import lfqt.interpolate
+        rng = np.random.default_rng(0)
+        p = rng.random((n, 2))
+        self.tri = lfqt.Delaunay(p, threads=1)
+        self.values = np.sin(3 * p[:, 0]) + p[:, 1] ** 2
+        side = int(min(n, 1_000_000) ** 0.5)
+        g = np.linspace(0, 1, side)
+        self.xi = np.stack([a.ravel() for a in np.meshgrid(g, g)], axis=1)
+        self.cls = {"linear": lfqt.interpolate.LinearNDInterpolator,
+                    "cubic": lfqt.interpolate.CloughTocher2DInterpolator,
+                    "natural": lfqt.interpolate.NaturalNeighborInterpolator}[method]
+        self.cls(self.tri, self.values)(self.xi[:100])
+
+    def time_interpolate(self, n, method):
+        self.cls(self.tri, self.values)(self.xi)
+
+
+class TimeRegimes:
+    """lfqt.triangulate where a program calls it (issue 50): every result
+    kept alive (``kept``), and a new interpreter's first call after import
+    (``fresh``, its import not counted)."""
+    params = [100_000, 1_000_000]
+    param_names = ["n"]
+    timeout = 300
+    number = 1
+    repeat = 5
+
+    def setup(self, n):
+        self.points = np.array(generators.make("uniform", n))
+        lfqt.triangulate(self.points[:1 << 17])
+        self.kept = []
+
+    def time_triangulate_kept(self, n):
+        self.kept.append(lfqt.triangulate(self.points))
+
+    def track_first_call_seconds(self, n):
+        with tempfile.NamedTemporaryFile(suffix=".npy") as f:
+            np.save(f.name, self.points)
+            out = subprocess.run([sys.executable, "-c",
+                                  "import sys, time, numpy as np, lfqt; "
+                                  "p = np.load(sys.argv[1]); t = time.perf_counter(); "
+                                  "lfqt.triangulate(p); print(time.perf_counter() - t)", f.name],
+                                 capture_output=True, text=True, check=True)
+        return float(out.stdout)
+    track_first_call_seconds.unit = "seconds"
+
+
 class TimeCompile:
     """First call in a fresh interpreter with an empty numba cache."""
     timeout = 600

@@ -589,10 +589,22 @@ def distributed_answer(res):
                 "a result was not exact or a worker exceeded 8 GiB", "distributed")]
 
 
+def scipy_surface_claims(res):
+    """Rows: issue 51's targets against scipy, as experiments.scipy_surface
+    declares and judges them (its ``claims``)."""
+    df = res.frame("scipy_surface")
+    if df is None:
+        return [_missing("lfqt.Delaunay and lfqt.interpolate at or below scipy's time on every "
+                         "operation", "scipy 1.17 (Qhull)", "scipy_surface")]
+    from .scipy_surface import claims
+    return [Row(claim, "scipy's time, same points and queries", ours, verdict, why,
+                "scipy_surface") for claim, ours, verdict, why in claims(df)]
+
+
 PAPER1 = [fig3_ratios, fig4_rates, fig5_top, fig6_scaling, table1_bounds, fig7_gpu]
 PAPER2 = [liu_times_claims, liu_counts_flat, liu_build_claim, liu_practical_claims,
           liu_hilbert_question]
-BEYOND = [hybrid_answer, distributed_answer]
+BEYOND = [hybrid_answer, distributed_answer, scipy_surface_claims]
 SECTIONS = [("Paper 1: Fuetterling, Lojewski and Pfreundt 2014 (fqDel)", PAPER1),
             ("Paper 2: Liu, Yan and Lo 2013 (Kd-tree insertion order)", PAPER2),
             ("Beyond the papers", BEYOND)]

@@ -4,7 +4,8 @@ import os
 
 import pytest
 
-from experiments import bench_dc, machine, results, runner
+from drivers.surface import NOT_SCIPY, OPERATIONS
+from experiments import bench_dc, machine, results, runner, scipy_surface
 from experiments.runner import Cell
 
 
@@ -382,3 +383,26 @@ def test_line_end_labels_keep_apart_and_stay_inside_the_axes():
     assert ys[-1] <= 2 and all(x > 1e6 for x, _ in texts.values())
     assert ax.get_xlim()[1] > max(x for x, _ in texts.values())
     plt.close(fig)
+
+
+def test_scipy_surface_times_every_operation_of_both_libraries_in_both_regimes(tmp_path, capsys):
+    """2D at the smoke size: each operation timed apart for lfqt and scipy,
+    warm and in a new process, the ratios printed and the claims judged."""
+    assert scipy_surface.main(["--scale", "smoke", "--repeats", "1", "--dists", "uniform",
+                               "--out", str(tmp_path), "--quiet"]) == 0
+    df = results.load(tmp_path / "smoke" / "scipy_surface")
+    assert set(df["status"]) == {"ok"} and set(df["regime"]) == {"loop", "fresh"}
+    ops = scipy_surface.operations(df)
+    for lib in ("lfqt", "scipy"):
+        for regime in ("loop", "fresh"):
+            got = ops[(ops["library"] == lib) & (ops["regime"] == regime)]
+            assert set(got["op"]) == {op for op in OPERATIONS
+                                      if lib == "lfqt" or op not in NOT_SCIPY}, (lib, regime)
+            assert (got["count"] == 1).all() and (got["median"] > 0).all()
+    text = capsys.readouterr().out
+    for regime in ("loop", "fresh"):
+        assert f"no operation slower than scipy's at any size ({regime})" in text
+    ratio = scipy_surface.ratios(ops)[(2, 2000, "loop", "transform")]
+    row = next(l for l in text.splitlines() if l.startswith("loop") and " transform " in l)
+    assert row.split()[-1] == results.fmt_ratio(ratio)
+    assert (tmp_path / "smoke" / "figures" / "scipy_surface.png").stat().st_size > 20000
