@@ -13,8 +13,8 @@ from numba import njit
 
 
 @njit(cache=True, inline="always")
-def _solve_coordinates(P, S, s, x, c):
-    """c[:d+1] = barycentric coordinates of x in simplex s by Cramer's rule
+def _solve_coordinates(P, S, s, X, i, c):
+    """c[:d+1] = barycentric coordinates of query X[i] in simplex s by Cramer's rule
     on its vertices, the last resort for a simplex too flat for a
     ``transform`` whose neighbours are too (_coordinates); all the weight on
     the nearest vertex where the determinant rounds to zero."""
@@ -23,10 +23,10 @@ def _solve_coordinates(P, S, s, x, c):
     if d == 2:
         ax, ay = P[S[s, 0], 0] - P[r, 0], P[S[s, 0], 1] - P[r, 1]
         bx, by = P[S[s, 1], 0] - P[r, 0], P[S[s, 1], 1] - P[r, 1]
-        qx, qy = x[0] - P[r, 0], x[1] - P[r, 1]
+        qx, qy = X[i, 0] - P[r, 0], X[i, 1] - P[r, 1]
         det = ax * by - ay * bx
         if det == 0.0:
-            _nearest_vertex(P, S, s, x, c)
+            _nearest_vertex(P, S, s, X, i, c)
             return
         c[0] = (qx * by - qy * bx) / det
         c[1] = (ax * qy - ay * qx) / det
@@ -35,12 +35,12 @@ def _solve_coordinates(P, S, s, x, c):
     M = np.empty((3, 3))
     q = np.empty(3)
     for a in range(3):
-        q[a] = x[a] - P[r, a]
+        q[a] = X[i, a] - P[r, a]
         for j in range(3):
             M[a, j] = P[S[s, j], a] - P[r, a]
     det = _det3(M[:, 0], M[:, 1], M[:, 2])
     if det == 0.0:
-        _nearest_vertex(P, S, s, x, c)
+        _nearest_vertex(P, S, s, X, i, c)
         return
     c[0] = _det3(q, M[:, 1], M[:, 2]) / det
     c[1] = _det3(M[:, 0], q, M[:, 2]) / det
@@ -56,13 +56,13 @@ def _det3(u, v, w):
 
 
 @njit(cache=True, inline="always")
-def _nearest_vertex(P, S, s, x, c):
-    """c = 1 at the vertex of simplex s nearest to x, 0 at the others."""
+def _nearest_vertex(P, S, s, X, i, c):
+    """c = 1 at the vertex of simplex s nearest to query X[i], 0 at the others."""
     best, at = np.inf, 0
     for j in range(S.shape[1]):
         dist = 0.0
         for a in range(P.shape[1]):
-            dist += (P[S[s, j], a] - x[a]) ** 2
+            dist += (P[S[s, j], a] - X[i, a]) ** 2
         if dist < best:
             best, at = dist, j
         c[j] = 0.0
@@ -70,27 +70,28 @@ def _nearest_vertex(P, S, s, x, c):
 
 
 @njit(cache=True, inline="always")
-def _transform_coordinates(T, s, x, c):
-    """c[:d+1] = barycentric coordinates of x from scipy's ``transform`` of
+def _transform_coordinates(T, s, X, i, c):
+    """c[:d+1] = barycentric coordinates of query X[i] (row and index: a row view per
+    query would cost a reference count) from scipy's ``transform`` of
     simplex s (the same arithmetic as scipy's interpolators, so that the
     two agree to rounding); returns the smallest."""
     d = T.shape[2]
     c[d] = 1.0
-    for i in range(d):
+    for r in range(d):
         acc = 0.0
         for j in range(d):
-            acc += T[s, i, j] * (x[j] - T[s, d, j])
-        c[i] = acc
+            acc += T[s, r, j] * (X[i, j] - T[s, d, j])
+        c[r] = acc
         c[d] -= acc
     low = c[d]
-    for i in range(d):
-        low = min(low, c[i])
+    for r in range(d):
+        low = min(low, c[r])
     return low
 
 
 @njit(cache=True, inline="always")
-def _coordinates(P, S, N, T, s, x, c):
-    """The simplex to interpolate on for x, located in simplex s, with x's
+def _coordinates(P, S, N, T, s, X, i, c):
+    """The simplex to interpolate on for query X[i], located in simplex s, with its
     barycentric coordinates in it (c).  s itself when its ``transform`` is
     finite.  A simplex too flat for one (NaN: beyond scipy's condition
     limit, which exact location may still return) passes x to the
@@ -98,19 +99,19 @@ def _coordinates(P, S, N, T, s, x, c):
     (a flat simplex is thin, so x lies on that neighbour up to a sliver);
     without one, Cramer's rule on s's vertices."""
     if not np.isnan(T[s, 0, 0]):
-        _transform_coordinates(T, s, x, c)
+        _transform_coordinates(T, s, X, i, c)
         return s
     best, best_low = -1, -np.inf
     for k in range(S.shape[1]):
         t = N[s, k]
         if t >= 0 and not np.isnan(T[t, 0, 0]):
-            low = _transform_coordinates(T, t, x, c)
+            low = _transform_coordinates(T, t, X, i, c)
             if low > best_low:
                 best, best_low = t, low
     if best < 0:
-        _solve_coordinates(P, S, s, x, c)
+        _solve_coordinates(P, S, s, X, i, c)
         return s
-    _transform_coordinates(T, best, x, c)
+    _transform_coordinates(T, best, X, i, c)
     return best
 
 
@@ -129,7 +130,7 @@ def _linear(mesh, found, X, V, fill, out, lo, hi):
             for a in range(k):
                 out[i, a] = fill[a]
             continue
-        s = _coordinates(P, S, N, T, s, X[i], c)
+        s = _coordinates(P, S, N, T, s, X, i, c)
         for a in range(k):
             out[i, a] = 0.0
         for j in range(d + 1):
@@ -145,7 +146,7 @@ def _twist(P, S, N, T, s, g, cc, y):
     element's derivative is linear, as the barycentric form of the step
     from this triangle's centroid to the neighbour's (affine invariant, and
     the same from both sides, hence C1); -1/2 (the centroid direction) on
-    the hull.  cc and y are scratch."""
+    the hull.  cc and y (one row) are scratch."""
     flat = np.isnan(T[s, 0, 0])  # Cramer's last resort (_coordinates): no transform to use
     for k in range(3):
         t = N[s, k]
@@ -153,8 +154,8 @@ def _twist(P, S, N, T, s, g, cc, y):
             g[k] = -0.5
             continue
         for a in range(2):
-            y[a] = (P[S[t, 0], a] + P[S[t, 1], a] + P[S[t, 2], a]) / 3.0
-        _transform_coordinates(T, s, y, cc)
+            y[0, a] = (P[S[t, 0], a] + P[S[t, 1], a] + P[S[t, 2], a]) / 3.0
+        _transform_coordinates(T, s, y, 0, cc)
         p, q = cc[(k + 2) % 3], cc[(k + 1) % 3]
         g[k] = (2.0 * p + q - 1.0) / (2.0 - 3.0 * p - 3.0 * q)
 
@@ -212,7 +213,7 @@ def _clough_tocher(mesh, found, X, V, G, fill, out, lo, hi):
     found is -1.  ``mesh`` = (points, simplices, neighbors, transform)."""
     P, S, N, T = mesh
     k = V.shape[1]
-    b, cc, g, y = np.empty(3), np.empty(3), np.empty(3), np.empty(2)
+    b, cc, g, y = np.empty(3), np.empty(3), np.empty(3), np.empty((1, 2))
     E, D, f = np.empty((3, 2)), np.empty((3, 2)), np.empty(3)
     for i in range(lo, hi):
         s = found[i]
@@ -220,7 +221,7 @@ def _clough_tocher(mesh, found, X, V, G, fill, out, lo, hi):
             for a in range(k):
                 out[i, a] = fill[a]
             continue
-        s = _coordinates(P, S, N, T, s, X[i], b)
+        s = _coordinates(P, S, N, T, s, X, i, b)
         _twist(P, S, N, T, s, g, cc, y)
         for j in range(3):
             u, v = S[s, j], S[s, (j + 1) % 3]
@@ -310,6 +311,6 @@ def _near_hull(N, T, inward, X, eps, found):
             t = s if j < 0 else N[s, j]
             if t < 0 or np.isnan(T[t, 0, 0]):
                 continue
-            if _transform_coordinates(T, t, X[i], c) >= -eps:
+            if _transform_coordinates(T, t, X, i, c) >= -eps:
                 found[i] = t
                 break

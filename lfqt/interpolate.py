@@ -183,8 +183,10 @@ class _Interpolator:
         tri = self.tri
         found = tri.find_simplex(xi).astype(np.int64)
         box = np.abs(tri.max_bound - tri.min_bound) * HULL_EPS
-        near = np.flatnonzero((found < 0) & (xi >= tri.min_bound - box).all(axis=1)
-                              & (xi <= tri.max_bound + box).all(axis=1))
+        outside = np.flatnonzero(found < 0)  # few: the box tests run on these rows only
+        x = xi[outside]
+        near = outside[(x >= tri.min_bound - box).all(axis=1)
+                       & (x <= tri.max_bound + box).all(axis=1)]
         if len(near):
             x = xi[near]
             inward = tri.find_simplex(x + NUDGE * (tri.points.mean(axis=0) - x))
