@@ -119,7 +119,10 @@ def _coordinates(P, S, N, T, s, X, i, c):
 def _linear(mesh, found, X, V, fill, out, lo, hi):
     """out[lo:hi] = the barycentric mix of V over the simplex found for each
     query row of X, or ``fill`` (one value per column) where found is -1.
-    ``mesh`` = (points, simplices, neighbors, transform)."""
+    ``mesh`` = (points, simplices, neighbors, transform).  The common case,
+    a simplex with a finite transform, is written out per dimension with
+    scipy's order of operations (the same bits as _transform_coordinates):
+    the general loops over a scratch array cost four times as much."""
     P, S, N, T = mesh
     d = P.shape[1]
     k = V.shape[1]
@@ -130,14 +133,29 @@ def _linear(mesh, found, X, V, fill, out, lo, hi):
             for a in range(k):
                 out[i, a] = fill[a]
             continue
-        s = _coordinates(P, S, N, T, s, X, i, c)
-        for a in range(k):
-            out[i, a] = 0.0
-        for j in range(d + 1):
-            v = S[s, j]
-            w = c[j]
+        if np.isnan(T[s, 0, 0]):
+            s = _coordinates(P, S, N, T, s, X, i, c)
+            c0, c1, c2, c3 = c[0], c[1], c[2], c[d]
+        elif d == 2:
+            x0, x1 = X[i, 0] - T[s, 2, 0], X[i, 1] - T[s, 2, 1]
+            c0 = T[s, 0, 0] * x0 + T[s, 0, 1] * x1
+            c1 = T[s, 1, 0] * x0 + T[s, 1, 1] * x1
+            c2 = 1.0 - c0 - c1
+            c3 = c2
+        else:
+            x0, x1, x2 = X[i, 0] - T[s, 3, 0], X[i, 1] - T[s, 3, 1], X[i, 2] - T[s, 3, 2]
+            c0 = T[s, 0, 0] * x0 + T[s, 0, 1] * x1 + T[s, 0, 2] * x2
+            c1 = T[s, 1, 0] * x0 + T[s, 1, 1] * x1 + T[s, 1, 2] * x2
+            c2 = T[s, 2, 0] * x0 + T[s, 2, 1] * x1 + T[s, 2, 2] * x2
+            c3 = 1.0 - c0 - c1 - c2
+        if d == 2:
+            v0, v1, v2 = S[s, 0], S[s, 1], S[s, 2]
             for a in range(k):
-                out[i, a] += w * V[v, a]
+                out[i, a] = c0 * V[v0, a] + c1 * V[v1, a] + c3 * V[v2, a]
+        else:
+            v0, v1, v2, v3 = S[s, 0], S[s, 1], S[s, 2], S[s, 3]
+            for a in range(k):
+                out[i, a] = c0 * V[v0, a] + c1 * V[v1, a] + c2 * V[v2, a] + c3 * V[v3, a]
 
 
 @njit(cache=True, inline="always")

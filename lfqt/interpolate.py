@@ -425,6 +425,20 @@ class NaturalNeighborInterpolator(_Interpolator):
     rescale : bool, optional
     threads : int or None, keyword only
         Threads for the triangulation it builds.
+
+    Examples
+    --------
+    Sibson's interpolant reproduces a linear function exactly, and equals
+    the data at the data points:
+
+    >>> import numpy as np
+    >>> from lfqt.interpolate import NaturalNeighborInterpolator
+    >>> p = np.random.default_rng(0).random((200, 2))
+    >>> f = NaturalNeighborInterpolator(p, 2 * p[:, 0] - p[:, 1] + 1)
+    >>> np.round(f([[0.5, 0.5], [0.25, 0.75]]), 12)
+    array([1.5 , 0.75])
+    >>> bool(np.allclose(f(p[:5]), 2 * p[:5, 0] - p[:5, 1] + 1))
+    True
     """
 
     def __init__(self, points: Any, values: npt.ArrayLike, fill_value: float = np.nan,

@@ -30,7 +30,7 @@ Exact where it decides, floating point where it measures:
   continuous;
 - the stolen areas and volumes are computed in floating point, relative to
   q, from the old circumcentres and the new ones (of q with each facet of
-  the cavity's boundary).  |R_v| is a sum over its faces of cones from the
+  the cavity's boundary).  ``|R_v|`` is a sum over its faces of cones from the
   midpoint of q and v, which lies on the new face (the bisector of q and
   v): that face adds nothing and needs no ordering.  The other faces lie
   on the old Voronoi edges (faces) of v, whose ends are old circumcentres,
@@ -64,7 +64,7 @@ Degenerate queries, each decided exactly:
   as prisms over the hull face's plane, and in the limit lambda_v is
   proportional to the integral over v's stolen region *in that plane* (the
   2D Voronoi diagram of the data points in it, which the hull facets in it
-  triangulate) of |y - v|^2 - |y - q|^2.  That integrand is linear in y, so
+  triangulate) of ``|y - v|^2 - |y - q|^2``.  That integrand is linear in y, so
   it is computed like an area, from a fan of triangles.  On a hull edge
   where two faces of different planes meet, the limit (from any side) is
   linear along that edge.  The tests check each limit against values a

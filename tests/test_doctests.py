@@ -10,7 +10,7 @@ import pytest
 # the ones that need none.
 MODULES_WITH_EXAMPLES = ["lfqt.dc", "lfqt.dc.quadtree", "lfqt.incremental", "lfqt.orders",
                          "lfqt.triangulation", "lfqt.verification", "lfqt.delaunay",
-                         "lfqt.workspace"]
+                         "lfqt.workspace", "lfqt.interpolate", "lfqt.natural"]
 OPTIONS = doctest.NORMALIZE_WHITESPACE
 
 
