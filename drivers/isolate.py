@@ -28,6 +28,7 @@ class Measurement:
     baseline_rss_bytes: int = 0  # resident size after prepare, before the first run
     version: str = ""
     simplices: object = None
+    check: dict = None  # drivers.exactness.judge of the last run's mesh, when asked
 
     @property
     def ok(self):
@@ -50,9 +51,10 @@ class Failure:
 
 
 def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,
-            warmup=True, on_prepared=None):
+            warmup=True, on_prepared=None, check=False):
     """Prepare once (``on_prepared()`` is called then), warm up (not
-    counted), then time ``repeats`` runs."""
+    counted), then time ``repeats`` runs; ``check``: judge the mesh exactly
+    (drivers.exactness) after the timed runs."""
     peer.check()
     peer.prepare(points, order=order, count=count)
     if on_prepared:
@@ -78,8 +80,12 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
         peak, baseline = max(own_memory), 0
     else:
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    judged = None
+    if check:
+        from .exactness import judge
+        judged = judge(points, res.simplices)
     return Measurement(seconds, cycles, res.counts, peak, baseline, peer.version(),
-                       res.simplices if keep_simplices else None)
+                       res.simplices if keep_simplices else None, judged)
 
 
 def current_rss():
