@@ -44,6 +44,7 @@ class Experiment:
     # (fig6: this machine's own thread scaling, experiments.probe)
     metadata: Callable = None
     check: bool = False  # judge every mesh exactly (drivers.exactness) after its timed runs
+    timeouts: dict = None  # per-cell limits by scale, where not TIMEOUTS
 
     @property
     def command(self):
@@ -150,7 +151,8 @@ class Experiment:
             else:
                 runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
                            known_failure=known, check=self.check,
-                           force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
+                           force=args.force,
+                           timeout=args.timeout or (self.timeouts or TIMEOUTS)[args.scale],
                            progress=not args.quiet, command=command,
                            extra_metadata={"scale": args.scale,
                                            **(self.metadata(args) if self.metadata else {})})
