@@ -34,6 +34,8 @@ class Distribution:
     # what the set is used for: "paper1" (paper 1's five 2D sets), "paper2",
     # "hard" (exactness, experiments.field), "lidar", "2.5d" (terrain: z over xy)
     tags: tuple = ()
+    # the dtypes the set means something in: 1e-300 or 1e300 are not float32s
+    dtypes: tuple = ("float32", "float64")
 
     @property
     def doc(self):
@@ -77,9 +79,12 @@ REGISTRY = {d.name: d for d in [
                  duplicates="by-design", tags=("hard",)),
     Distribution("signed-zeros", 2, hard.signed_zeros, "exactness (generators.hard)",
                  duplicates="by-design", tags=("hard",)),
-    Distribution("tiny", 2, hard.tiny, "exactness (generators.hard)", tags=("hard",)),
-    Distribution("subnormal", 2, hard.subnormal, "exactness (generators.hard)", tags=("hard",)),
-    Distribution("huge", 2, hard.huge, "exactness (generators.hard)", tags=("hard",)),
+    Distribution("tiny", 2, hard.tiny, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
+    Distribution("subnormal", 2, hard.subnormal, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
+    Distribution("huge", 2, hard.huge, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
     Distribution("gis", 2, hard.gis, "exactness (generators.hard)", duplicates="by-design",
                  tags=("hard",)),
 ]}
@@ -139,6 +144,8 @@ def generate(name, n, *, seed=0, dtype="float64"):
     dist = get(name)
     if dtype not in DTYPES:
         raise ValueError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if dtype not in dist.dtypes:
+        raise ValueError(f"{name} is a {' or '.join(dist.dtypes)} set, not {dtype}")
     n = int(n)
     if n < 0:
         raise ValueError("n must be non-negative")

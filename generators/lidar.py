@@ -30,18 +30,18 @@ def _ground(x, y):
     return 120.0 + 0.02 * x + 2.5 * np.sin(x / 37.0) * np.cos(y / 53.0) + 1.5 * np.sin(y / 19.0)
 
 
-def _buildings(rng, width, height):
+def _buildings(rng, x0, width, height):
     """(k, 5) blocks: x0, y0, x1, y1, height of each flat-roofed building."""
     k = max(1, int(width * height / 2500))
-    cx, cy = rng.random(k) * width, rng.random(k) * height
+    cx, cy = x0 + rng.random(k) * width, rng.random(k) * height
     w, d = 8 + rng.random(k) * 25, 8 + rng.random(k) * 25
     return np.column_stack((cx - w / 2, cy - d / 2, cx + w / 2, cy + d / 2, 4 + rng.random(k) * 16))
 
 
-def _returns_per_pulse(rng, x, y, width, height):
+def _returns_per_pulse(rng, x, y, x0, width, height):
     """How many returns each pulse gives: 2 to 4 inside the tree discs, else 1."""
     k = max(1, int(width * height / 400))
-    tx, ty, r = rng.random(k) * width, rng.random(k) * height, 2 + rng.random(k) * 4
+    tx, ty, r = x0 + rng.random(k) * width, rng.random(k) * height, 2 + rng.random(k) * 4
     counts = np.ones(len(x), dtype=np.int64)
     for cx, cy, rr in zip(tx, ty, r):
         inside = (x - cx) ** 2 + (y - cy) ** 2 < rr * rr
@@ -54,9 +54,9 @@ def cloud(rng, n):
     return quantise(_strip(rng, n))
 
 
-def _strip(rng, n):
+def _strip(rng, n, x0=0.0):
     """(n, 3) points of the model before quantisation, in metres from the
-    tile's corner."""
+    tile's corner; ``x0``: where this strip starts across the flight line."""
     if n == 0:
         return np.empty((0, 3))
     pulses = max(1, int(n / 1.3))  # about 1.3 returns per pulse on average
@@ -65,12 +65,12 @@ def _strip(rng, n):
     lines = -(-pulses // per_line)
     width, height = per_line * spacing, lines * spacing
     i = np.arange(pulses)
-    x = (i % per_line) * spacing + rng.normal(0.0, JITTER * spacing, pulses)
+    x = x0 + (i % per_line) * spacing + rng.normal(0.0, JITTER * spacing, pulses)
     y = (i // per_line) * spacing + rng.normal(0.0, JITTER * spacing, pulses)
     z = _ground(x, y)
-    for x0, y0, x1, y1, h in _buildings(rng, width, height):
-        z[(x >= x0) & (x < x1) & (y >= y0) & (y < y1)] += h
-    counts = _returns_per_pulse(rng, x, y, width, height)
+    for bx0, by0, bx1, by1, h in _buildings(rng, x0, width, height):
+        z[(x >= bx0) & (x < bx1) & (y >= by0) & (y < by1)] += h
+    counts = _returns_per_pulse(rng, x, y, x0, width, height)
     pulse = np.repeat(np.arange(pulses), counts)[:n]
     first = np.r_[True, pulse[1:] != pulse[:-1]]
     # later returns of a pulse: lower, between the canopy top and the ground
@@ -78,8 +78,7 @@ def _strip(rng, n):
     pts = np.column_stack((x[pulse], y[pulse], np.maximum(z[pulse] - drop, _ground(
         x[pulse], y[pulse]))))
     if len(pts) < n:  # fewer returns than asked: another strip beside this one
-        more = _strip(rng, n - len(pts))
-        pts = np.concatenate((pts, more + [width + spacing, 0.0, 0.0]))
+        pts = np.concatenate((pts, _strip(rng, n - len(pts), x0 + width + spacing)))
     return pts
 
 
