@@ -112,7 +112,8 @@ def setup(args, out_dir):
 def plot(df, out):
     import matplotlib.pyplot as plt
     s = results.summarize(df)
-    dists = [d for d in DISTS["paper"] if d in set(df["distribution"])]
+    present = set(df["distribution"])
+    dists = [d for d in DISTS["paper"] if d in present] + sorted(present - set(DISTS["paper"]))
     ns = sorted(df["n"].unique())
     peers = [p for p in PEERS if p in set(df["peer"])]
 

@@ -161,7 +161,15 @@ class Experiment:
         if not (out_dir / "results.csv").exists():
             raise SystemExit(f"{self.command}: no results at {out_dir}: run it without "
                              "--plot-only first")
-        for p in self.plot(results.load(out_dir), root):
+        try:
+            paths = self.plot(results.load(out_dir), root)
+        except Exception as e:  # noqa: BLE001 - a figure drawn for the grid's own sets
+            if not args.input:
+                raise
+            print(f"{self.command}: its figure does not draw a user's file ({type(e).__name__}: "
+                  f"{e}); the results are in {out_dir}", file=sys.stderr)
+            paths = []
+        for p in paths:
             print(p)
         return 0
 
