@@ -30,7 +30,15 @@ class GmshPeer(PipPeer):
         self.out = gmsh.algorithm.triangulate(self.flat)
 
     def result(self):
-        return Result(np.asarray(self.out, dtype=np.int64).reshape(-1, 3) - 1)
+        tri = np.asarray(self.out, dtype=np.int64).reshape(-1, 3) - 1
+        # gmsh mixes orientations: each triangle turned counter-clockwise
+        # (our convention) by its floating-point orientation; a flat one stays
+        # as it is, for verify to reject
+        p = self.flat.reshape(-1, 2)
+        a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+        cw = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]) < 0
+        tri[cw] = tri[cw][:, ::-1]
+        return Result(tri)
 
 
 PEERS = {"gmsh": GmshPeer}

@@ -93,9 +93,9 @@ class DelaunatorPeer(Peer):
     def result(self):
         tri = np.fromfile(self.out_path, dtype="<u4").astype(np.int64).reshape(-1, 3)
         shutil.rmtree(self.tmp, ignore_errors=True)
-        # Delaunator's triangles run clockwise in y-up axes (it is made for
-        # screens, y down); verify accepts either orientation of a bare mesh
-        return Result(tri)
+        # Delaunator's triangles run clockwise with y up (it is made for
+        # screens, y down): turned counter-clockwise, our convention
+        return Result(tri[:, ::-1].copy())
 
 
 PEERS = {"delaunator": DelaunatorPeer}
