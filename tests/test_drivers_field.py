@@ -120,3 +120,13 @@ def test_judge_counts_bad_edges_and_missing_triangles():
     bad = judge(pts, np.array(flipped + rest))
     assert bad["verdict"] == "wrong" and bad["non_delaunay_edges"] == 1
     assert describe(bad) == "wrong: 1 bad edges"
+
+
+def test_a_peer_that_is_not_installed_says_how_to_install_it(monkeypatch, tmp_path):
+    from drivers import cdt, delaunator
+    monkeypatch.setattr(cdt.CdtPeer, "module", "pythoncdt_not_here")
+    ok, why = drivers.available("cdt")
+    assert not ok and "pip install pythoncdt" in why
+    monkeypatch.setattr(delaunator, "MODULE", tmp_path / "missing" / "package.json")
+    ok, why = drivers.available("delaunator")
+    assert not ok and "npm install" in why
