@@ -21,6 +21,8 @@ def test_the_grid_times_every_peer_on_paper_1s_sets_and_the_lidar_model():
             assert (p, d, 100_000) in timed
     assert ("delaunator", "uniform", 1_000_000) in timed
     assert ("qhull-2d", "uniform", 1_000_000) not in timed
+    assert field.known_failure("default", field.Cell("cdt", "huge", 2000))
+    assert not field.known_failure("paper", field.Cell("cdt", "huge", 2000))
     paper = {(c.distribution, c.n) for c in field.grid("paper", 1)}
     assert ("spiral", 10_000_000) in paper and ("lidar-xy", 10_000_000) in paper
 
@@ -49,12 +51,16 @@ def test_tables_say_exact_wrong_refused_crashed_and_hung():
         _rows("lfqt-dc", "circle", 500, check=exact) + _rows("delaunator", "circle", 500, check=wrong)
         + _rows("cdt", "circle", 500, "error", detail="RuntimeError: duplicate vertex\n...")
         + _rows("gmsh", "circle", 500, "crash") + _rows("qhull-2d", "circle", 500, "timeout")
+        + _rows("triangle-native", "circle", 500, "error",
+                detail="RuntimeError: triangle_driver failed (-11): ")
+        + _rows("startinpy", "circle", 500, "skipped", detail="known hang: no result")
         + _rows("lfqt-dc", "uniform", 100_000, check=exact, seconds=(0.01, 0.02, 0.03))
         + _rows("delaunator", "uniform", 100_000, check=wrong, seconds=(0.04, 0.04, 0.05)))
     table = "\n".join(field.exactness_table(df))
     assert "| delaunator | **wrong: 250 bad edges** |" in table
     assert "| cdt | refused (RuntimeError) |" in table and "| gmsh | crashed |" in table
     assert "| qhull-2d | hung |" in table and "| lfqt-dc | exact |" in table
+    assert "| triangle-native | crashed |" in table and "| startinpy | hung |" in table
     timing = "\n".join(field.timing_table(df))
     assert "| lfqt-dc | 0.02 s |" in timing
     assert "| delaunator | 0.04 s (2.00x), **wrong: 250 bad edges** |" in timing
