@@ -191,6 +191,7 @@ def report_lines(df):
 def plot(df, out):
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
+    from matplotlib.ticker import NullFormatter
     cells = cells_of(df)
     print("\n" + "\n".join(timing_table(df)))
     print("\nExactness on the hard sets:\n" + "\n".join(exactness_table(df)))
@@ -215,6 +216,7 @@ def plot(df, out):
                                 color=COLORS[kind])
             ax.set_yticks(range(len(peers)), peers, fontsize=7.5)
             ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(NullFormatter())  # a narrow range crowds them
             ax.set_xlabel("seconds (median)")
             ax.set_title(f"{d}, {n:,} points", fontsize=10)
             ax.grid(axis="x", alpha=0.3, which="both")
