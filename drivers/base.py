@@ -43,6 +43,10 @@ class Peer:
     # True in the fresh regime (drivers.isolate.REGIMES): prepare() must not
     # warm anything up, so that the timed run is the process's first call
     cold = False
+    # why the peer's meshes are not Delaunay even on random points, or "":
+    # tests that compare a peer with lfqt leave such a peer to its own test
+    # (the field experiment measures how wrong it is)
+    inexact = ""
 
     @property
     def dims(self):
@@ -164,3 +168,29 @@ class CompiledPeer(Peer):
         shutil.rmtree(self.tmp, ignore_errors=True)
         return Result(simplices, self.counts(self.report),
                       {"tsc_cycles": self.report["tsc_cycles"]})
+
+
+class PipPeer(Peer):
+    """A peer from a PyPI package, called in this process: ``check`` imports
+    ``module`` and says which package to install when it cannot."""
+    module = ""  # what to import
+    package = ""  # the PyPI distribution
+
+    @property
+    def install(self):
+        return f"pip install {self.package} (the project's setup installs it: the 'all' extra)"
+
+    def check(self):
+        import importlib
+        try:
+            importlib.import_module(self.module)
+        except ImportError as e:
+            raise Unavailable(f"{self.name}: PyPI package {self.package!r} is not installed "
+                              f"({e}): {self.install}") from e
+
+    def version(self):
+        from importlib import metadata
+        try:
+            return f"{self.package} {metadata.version(self.package)}"
+        except metadata.PackageNotFoundError:
+            return ""

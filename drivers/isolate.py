@@ -28,6 +28,7 @@ class Measurement:
     baseline_rss_bytes: int = 0  # resident size after prepare, before the first run
     version: str = ""
     simplices: object = None
+    check: dict = None  # drivers.exactness.judge of the last run's mesh, when asked
 
     @property
     def ok(self):
@@ -63,10 +64,11 @@ REGIMES = ("loop", "kept", "fresh")
 
 
 def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,
-            warmup=True, on_prepared=None, regime="loop"):
+            warmup=True, on_prepared=None, regime="loop", check=False):
     """Prepare once (``on_prepared()`` is called then), warm up (not
     counted), then time ``repeats`` runs, in ``regime`` (REGIMES; fresh
-    means no warm-up at all and one run)."""
+    means no warm-up at all and one run); ``check``: judge the mesh exactly
+    (drivers.exactness) after the timed runs."""
     if regime not in REGIMES:
         raise ValueError(f"unknown regime {regime!r}; known: {', '.join(REGIMES)}")
     if regime == "fresh":
@@ -98,8 +100,12 @@ def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=
         peak, baseline = max(own_memory), 0
     else:
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    judged = None
+    if check:
+        from .exactness import judge
+        judged = judge(points, res.simplices)
     return Measurement(seconds, cycles, res.counts, peak, baseline, peer.version(),
-                       res.simplices if keep_simplices else None)
+                       res.simplices if keep_simplices else None, judged)
 
 
 def current_rss():

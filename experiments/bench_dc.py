@@ -135,7 +135,8 @@ def plot(df, out):
 def _shape(df):
     """(summary, sets, sizes, peers, cell lookup) of one regime's results."""
     s = results.summarize(df)
-    dists = [d for d in DISTS["paper"] if d in set(df["distribution"])]
+    present = set(df["distribution"])
+    dists = [d for d in DISTS["paper"] if d in present] + sorted(present - set(DISTS["paper"]))
     ns = sorted(df["n"].unique())
     peers = [p for p in PEERS if p in set(df["peer"])]
     return s, dists, ns, peers, lambda peer, dist, n: results.cell(s, peer, dist, n, False)

@@ -47,16 +47,22 @@ class Experiment:
     # takes any of them, and the grid is measured once per regime asked for
     regimes: tuple = ("loop",)
     default_regimes: tuple = ("loop",)  # what --regime is when not given
+    check: bool = False  # judge every mesh exactly (drivers.exactness) after its timed runs
+    timeouts: dict = None  # per-cell limits by scale, where not TIMEOUTS
 
     @property
     def command(self):
         return f"python -m experiments.{self.name}"
 
     def cells(self, args):
-        """The grid at ``args.scale``, narrowed by --peers, --sizes, --dists."""
+        """The grid at ``args.scale``, narrowed by --peers, --sizes, --dists;
+        with --input, on the user's file instead of the grid's sets."""
         cells = self.grid(args.scale, args.threads,
                           **{k: getattr(args, k) for k in self.grid_options})
-        for flag, field in (("peers", "peer"), ("sizes", "n"), ("dists", "distribution")):
+        flags = (("peers", "peer"), ("sizes", "n"), ("dists", "distribution"))
+        if getattr(args, "input", None):
+            cells, flags = self.input_cells(cells, args), flags[:1]
+        for flag, field in flags:
             wanted = getattr(args, flag)
             if wanted:
                 known = {getattr(c, field) for c in cells}
@@ -77,6 +83,32 @@ class Experiment:
             except ValueError as e:
                 raise SystemExit(f"{self.command}: {e}") from None
         return cells
+
+    def input_cells(self, cells, args):
+        """The grid's cells on the user's file (--input): each cell's set
+        replaced by the file's points of the same dimension, all of them, or
+        its first N for each N of --sizes; duplicate cells dropped."""
+        import generators
+        if args.dists:
+            raise SystemExit(f"{self.command}: --dists and --input exclude each other")
+        try:
+            names, size = generators.register(args.input)
+        except (OSError, ValueError) as e:
+            raise SystemExit(f"{self.command}: --input: {e}") from None
+        sizes = args.sizes or [size]
+        if max(sizes) > size:
+            raise SystemExit(f"{self.command}: --sizes {max(sizes):,} is more than the "
+                             f"{size:,} points of {args.input}")
+        out = {}
+        for c in cells:
+            dim = generators.get(c.distribution).dim
+            if dim not in names:
+                raise SystemExit(f"{self.command}: {args.input} has no z column, and this "
+                                 "experiment triangulates in 3D")
+            for n in sizes:
+                new = replace(c, distribution=names[dim], n=n)
+                out.setdefault(new.key, new)
+        return list(out.values())
 
     def main(self, argv=None):
         """Parse the common options, run the grid through the runner (unless
@@ -106,11 +138,20 @@ class Experiment:
         ap.add_argument("--plot-only", action="store_true", help="redraw from stored results")
         ap.add_argument("--quiet", action="store_true", help="no progress bar")
         ap.add_argument("--timeout", type=float, help="seconds per cell (default by scale)")
+        ap.add_argument("--input", metavar="PATH",
+                        help="run on this point cloud (.npy, .csv, Parquet, .las/.laz) instead "
+                             "of the grid's sets: all its points, or its first N for each N of "
+                             "--sizes")
         for flag, kwargs in self.options:
             ap.add_argument(flag, **kwargs)
         args = ap.parse_args(argv)
         root = results_root(args.out, args.scale)
+        if args.input:  # a user's file: apart from the report's results
+            root = root / "input"
         out_dir = root / self.name
+        if args.input and self.measure:
+            raise SystemExit(f"{self.command}: --input is not supported here: this experiment "
+                             "draws its own sets (it does not measure through the runner)")
         if not args.plot_only:
             cells = [] if self.measure else self.cells(args)
             if self.setup:
@@ -122,8 +163,9 @@ class Experiment:
                 self.measure(args, out_dir, command)
             else:
                 runner.run(self.name, cells, repeats=args.repeats, rounds=args.rounds, out=root,
-                           known_failure=known,
-                           force=args.force, timeout=args.timeout or TIMEOUTS[args.scale],
+                           known_failure=known, check=self.check,
+                           force=args.force,
+                           timeout=args.timeout or (self.timeouts or TIMEOUTS)[args.scale],
                            progress=not args.quiet, command=command,
                            extra_metadata={"scale": args.scale,
                                            **(self.metadata(args) if self.metadata else {})})
@@ -132,7 +174,15 @@ class Experiment:
         if not (out_dir / "results.csv").exists():
             raise SystemExit(f"{self.command}: no results at {out_dir}: run it without "
                              "--plot-only first")
-        for p in self.plot(results.load(out_dir), root):
+        try:
+            paths = self.plot(results.load(out_dir), root)
+        except Exception as e:  # noqa: BLE001 - a figure drawn for the grid's own sets
+            if not args.input:
+                raise
+            print(f"{self.command}: its figure does not draw a user's file ({type(e).__name__}: "
+                  f"{e}); the results are in {out_dir}", file=sys.stderr)
+            paths = []
+        for p in paths:
             print(p)
         return 0
 

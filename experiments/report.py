@@ -646,6 +646,8 @@ def render(root, scale):
                 lines.append(f"| {k} | {row.claim} | {row.published} | {row.ours} | "
                              f"**{row.verdict}** | {row.why} | {row.source} |")
         lines.append("")
+    from .field import report_lines  # tables, not claims: the peers of 2026 against lfqt
+    lines += report_lines(res.frame("field"))
     return "\n".join(lines)
 
 

@@ -13,7 +13,7 @@ NOMINAL_HZ = 3.0e9  # paper 1 normalises cycle counts to 3 GHz
 PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
 FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed", "count",
           "round", "regime", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz",
-          "mpts_per_s", "peak_bytes", "bytes_per_point", "version", "counts"]
+          "mpts_per_s", "peak_bytes", "bytes_per_point", "version", "counts", "check"]
 INTS = ("n", "threads", "seed", "round", "repeat")
 FLOATS = ("seconds", "cycles", "seconds_at_3ghz", "mpts_per_s", "peak_bytes", "bytes_per_point")
 CELL = ["peer", "distribution", "n", "count"]  # what a summary groups by
@@ -73,7 +73,8 @@ def rows_for(cell, experiment, outcome):
                          seconds_at_3ghz=cyc / NOMINAL_HZ if cyc else None,
                          mpts_per_s=rate(cell.n, sec), peak_bytes=outcome["peak_bytes"],
                          bytes_per_point=outcome["peak_bytes"] / max(cell.n, 1),
-                         version=outcome["version"], counts=json.dumps(outcome["counts"])))
+                         version=outcome["version"], counts=json.dumps(outcome["counts"]),
+                         check=json.dumps(outcome["check"]) if outcome.get("check") else ""))
     return rows
 
 
@@ -99,6 +100,9 @@ def load(out_dir):
     df["count"] = df["count"].astype(str) == "True"
     df["counts"] = [json.loads(c) if c else {} for c in df["counts"].astype(str)]
     df["detail"] = df["detail"].astype(str)
+    # the exact judgement of the mesh (drivers.exactness), where the sweep asked
+    df["check"] = [json.loads(c) if c else {} for c in
+                   (df["check"].astype(str) if "check" in df else [""] * len(df))]
     return df
 
 

@@ -68,8 +68,9 @@ def check(cell):
     drivers.make(cell.peer, threads=cell.threads)
 
 
-def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
-    """Run one cell in a child process; a dict describing the outcome."""
+def measure_cell(cell, repeats, timeout, memory_fraction=0.8, check=False):
+    """Run one cell in a child process; a dict describing the outcome
+    (``check``: with the exact judgement of the peer's mesh)."""
     ok, why = drivers.available(cell.peer)
     if not ok:
         return {"status": "unavailable", "detail": why}
@@ -92,14 +93,16 @@ def measure_cell(cell, repeats, timeout, memory_fraction=0.8):
     runs = []
     for _ in range(repeats // per_process):
         m = drivers.measure_isolated(peer, pts, repeats=per_process, count=cell.count,
-                                     timeout=timeout, memory_bytes=limit, regime=cell.regime)
+                                     timeout=timeout, memory_bytes=limit, regime=cell.regime,
+                                     check=check and not runs)
         if not m.ok:
             return {"status": m.reason, "detail": m.detail[:500]}
         runs.append(m)
     return {"status": "ok", "seconds": [s for m in runs for s in m.seconds],
             "cycles": [c for m in runs for c in m.cycles],
             "peak_bytes": max(m.extra_peak_bytes for m in runs), "version": runs[0].version,
-            "counts": _merged_counts([m.counts for m in runs])}
+            "counts": _merged_counts([m.counts for m in runs]),
+            **({"check": runs[0].check} if check else {})}
 
 
 def _merged_counts(counts):
@@ -143,7 +146,7 @@ def _progress(experiment, total):
 
 
 def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, timeout=1800.0,
-        progress=True, command=None, extra_metadata=None, known_failure=None):
+        progress=True, command=None, extra_metadata=None, known_failure=None, check=False):
     """Measure every cell not already done; return the results directory.
 
     With ``rounds`` > 1 the whole grid is measured that many times, round
@@ -153,6 +156,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     compared under the same conditions rather than under whatever held while
     each peer's single cell ran.  ``known_failure(cell)`` may give a reason
     the cell is known to fail; it is then recorded as skipped, not run.
+    ``check``: judge every mesh exactly (drivers.exactness), in the child.
     """
     cells = [replace(c, round=r) for r in range(max(rounds, 1)) for c in cells
              if r == 0 or not c.count]  # counts are deterministic: one round
@@ -184,7 +188,7 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
                 bar.set_postfix_str(cell.label())
             reason = known_failure(cell) if known_failure else None
             outcome = ({"status": "skipped", "detail": reason} if reason else
-                       measure_cell(cell, 1 if cell.count else repeats, timeout))
+                       measure_cell(cell, 1 if cell.count else repeats, timeout, check=check))
             rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome, "code": code}
             results.append_log(f, rec)
             done[cell.key] = rec

@@ -16,8 +16,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import sets2d, sets3d, standins
+from . import hard, lidar, sets2d, sets3d, standins
 from .cache import cached
+from .load import LoadError, load, register
 
 VERSION = "1"  # bump when any definition changes: it keys the cache
 
@@ -30,6 +31,11 @@ class Distribution:
     source: str
     duplicates: str = "none"
     default_n: int = 100_000
+    # what the set is used for: "paper1" (paper 1's five 2D sets), "paper2",
+    # "hard" (exactness, experiments.field), "lidar", "2.5d" (terrain: z over xy)
+    tags: tuple = ()
+    # the dtypes the set means something in: 1e-300 or 1e300 are not float32s
+    dtypes: tuple = ("float32", "float64")
 
     @property
     def doc(self):
@@ -37,11 +43,12 @@ class Distribution:
 
 
 REGISTRY = {d.name: d for d in [
-    Distribution("uniform", 2, sets2d.uniform, "paper 1, section 4"),
-    Distribution("grid", 2, sets2d.grid, "paper 1, section 4"),
-    Distribution("cluster", 2, sets2d.cluster, "paper 1, section 4", duplicates="rounding"),
-    Distribution("circle", 2, sets2d.circle, "paper 1, section 4"),
-    Distribution("spiral", 2, sets2d.spiral, "paper 1, section 4"),
+    Distribution("uniform", 2, sets2d.uniform, "paper 1, section 4", tags=("paper1",)),
+    Distribution("grid", 2, sets2d.grid, "paper 1, section 4", tags=("paper1", "hard")),
+    Distribution("cluster", 2, sets2d.cluster, "paper 1, section 4", duplicates="rounding",
+                 tags=("paper1",)),
+    Distribution("circle", 2, sets2d.circle, "paper 1, section 4", tags=("paper1", "hard")),
+    Distribution("spiral", 2, sets2d.spiral, "paper 1, section 4", tags=("paper1",)),
     Distribution("cube", 3, sets3d.cube, "paper 2, Fig. 6a"),
     Distribution("plane", 3, sets3d.plane, "paper 2, Fig. 6b"),
     Distribution("paraboloid", 3, sets3d.paraboloid, "paper 2, Fig. 6c"),
@@ -58,15 +65,39 @@ REGISTRY = {d.name: d for d in [
                  default_n=5_500_000),
     Distribution("gearbox-standin", 3, standins.gearbox,
                  "stand-in for paper 2's gear box (Table 16)", default_n=3_204_652),
+    Distribution("lidar", 3, lidar.cloud, "LiDAR model (generators.lidar), x, y, z",
+                 duplicates="by-design", tags=("lidar", "2.5d")),
+    Distribution("lidar-xy", 2, lidar.cloud_xy, "LiDAR model (generators.lidar), x and y",
+                 duplicates="by-design", tags=("lidar", "hard")),
+    Distribution("cocircular", 2, hard.cocircular, "exactness (generators.hard)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("collinear", 2, hard.collinear, "exactness (generators.hard)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("collinear-fan", 2, hard.collinear_fan, "exactness (generators.hard)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("duplicates", 2, hard.duplicates, "exactness (generators.hard)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("signed-zeros", 2, hard.signed_zeros, "exactness (generators.hard)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("tiny", 2, hard.tiny, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
+    Distribution("subnormal", 2, hard.subnormal, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
+    Distribution("huge", 2, hard.huge, "exactness (generators.hard)", tags=("hard",),
+                 dtypes=("float64",)),
+    Distribution("gis", 2, hard.gis, "exactness (generators.hard)", duplicates="by-design",
+                 tags=("hard",)),
 ]}
 
 DTYPES = {"float32": np.float32, "float64": np.float64}
 CACHE_MIN_POINTS = 1_000_000
 
 
-def names(dim=None):
-    """Registered names, optionally only those of dimension ``dim``."""
-    return [k for k, d in REGISTRY.items() if dim is None or d.dim == dim]
+def names(dim=None, tag=None):
+    """Registered names, optionally only those of dimension ``dim`` and
+    those tagged ``tag``."""
+    return [k for k, d in REGISTRY.items()
+            if (dim is None or d.dim == dim) and (tag is None or tag in d.tags)]
 
 
 def get(name):
@@ -113,6 +144,8 @@ def generate(name, n, *, seed=0, dtype="float64"):
     dist = get(name)
     if dtype not in DTYPES:
         raise ValueError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if dtype not in dist.dtypes:
+        raise ValueError(f"{name} is a {' or '.join(dist.dtypes)} set, not {dtype}")
     n = int(n)
     if n < 0:
         raise ValueError("n must be non-negative")
@@ -128,6 +161,7 @@ def make(name, n, *, seed=0, dtype="float64", cache=None):
     points are cached on disk and returned memory-mapped read-only (``cache``
     forces either way)."""
     use_cache = n >= CACHE_MIN_POINTS if cache is None else cache
+    use_cache = use_cache and "input" not in get(name).tags  # a user's file is read, not kept
     if not use_cache:
         return generate(name, n, seed=seed, dtype=dtype)
     key = f"{name}-n{int(n)}-s{seed}-{dtype}-{definition(name)}"
@@ -148,7 +182,8 @@ def definition(name):
     h = hashlib.sha256(VERSION.encode())
     for part in (inspect.getsource(sys.modules[dist.draw.__module__]), inspect.getsource(generate),
                  inspect.getsource(_redraw_duplicates), inspect.getsource(_duplicate_rows),
-                 repr((dist.name, dist.dim, dist.duplicates))):
+                 repr((dist.name, dist.dim, dist.duplicates))
+                 + (dist.source if "input" in dist.tags else "")):
         h.update(part.encode())
     return "d" + h.hexdigest()[:12]
 

@@ -27,7 +27,8 @@ def tet_set(simplices):
     return {tuple(sorted(map(int, s))) for s in np.asarray(simplices)}
 
 
-@pytest.mark.parametrize("name", PEERS_2D)
+# a peer flagged inexact (gmsh) is judged by its own test (tests/test_drivers_field.py)
+@pytest.mark.parametrize("name", [n for n in PEERS_2D if not drivers.make(n).inexact])
 def test_2d_peers_agree_with_lfqt(name, rng):
     require(name)
     pts = rng.random((1500, 2))

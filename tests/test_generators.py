@@ -18,8 +18,8 @@ def digest(a):
     return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
 
 
-@pytest.mark.parametrize("name", ALL)
-@pytest.mark.parametrize("dtype", ["float32", "float64"])
+@pytest.mark.parametrize("name,dtype", [(n, t) for n in ALL for t in ("float32", "float64")
+                                        if t in generators.get(n).dtypes])
 def test_shape_dtype_determinism_and_finiteness(name, dtype):
     a = generators.make(name, 2000, seed=3, dtype=dtype)
     b = generators.make(name, 2000, seed=3, dtype=dtype)
@@ -32,7 +32,7 @@ def test_shape_dtype_determinism_and_finiteness(name, dtype):
 
 @pytest.mark.parametrize("name", [n for n in ALL if generators.get(n).duplicates == "none"])
 def test_no_duplicates_unless_the_set_means_them(name):
-    a = generators.make(name, 20000, seed=1, dtype="float32")
+    a = generators.make(name, 20000, seed=1, dtype=generators.get(name).dtypes[0])
     assert len(np.unique(a, axis=0)) == len(a)
 
 
@@ -157,3 +157,120 @@ def test_chunked_sets_are_reproducible_chunk_by_chunk(tmp_path):
     assert u.shape == (10, 2) and (u >= 0).all() and (u < 1).all()
     with pytest.raises(ValueError, match="chunk-wise"):
         chunked.chunk("spiral", 10, 0)
+
+
+# --- the LiDAR model, the hard sets, tags, and a user's own cloud (issue 53) ---
+
+def test_paper_1s_five_sets_are_tagged():
+    assert generators.names(2, tag="paper1") == ["uniform", "grid", "cluster", "circle", "spiral"]
+    assert "lidar" in generators.names(3, tag="2.5d") and "lidar-xy" in generators.names(2, "hard")
+
+
+def test_lidar_is_quantised_at_an_offset_with_returns_sharing_xy():
+    from generators import lidar
+    pts = generators.make("lidar", 20000, seed=2)
+    units = (pts - np.array(lidar.OFFSET)) / lidar.SCALE
+    assert np.abs(units - np.round(units)).max() < 1e-3  # centimetres, as a LAS file stores them
+    assert (pts[:, 0] > 4.9e5).all() and (pts[:, 1] > 3.9e6).all()
+    distinct = len(np.unique(pts[:, :2], axis=0))
+    assert 0.3 * len(pts) < distinct < len(pts)  # several returns of one pulse share xy
+    ground = lidar._ground(pts[:, 0] - lidar.OFFSET[0], pts[:, 1] - lidar.OFFSET[1])
+    above = pts[:, 2] - ground
+    assert above.min() > -0.02 and (above > 3).mean() > 0.02  # roofs stand above the ground
+    assert np.array_equal(lidar.cloud_xy(np.random.default_rng(7), 3000),
+                          lidar.cloud(np.random.default_rng(7), 3000)[:, :2])
+
+
+def test_lidar_scan_lines_are_parallel_rows_of_footprints():
+    from generators import lidar
+    pts = lidar._strip(np.random.default_rng(0), 5000)
+    spacing = 1 / np.sqrt(lidar.DENSITY)
+    rows = np.round(pts[:, 1] / spacing)
+    assert np.abs(pts[:, 1] / spacing - rows).max() < 0.3  # jitter well inside a line gap
+    assert len(np.unique(rows)) > 20
+
+
+def test_cocircular_points_lie_exactly_on_their_circles():
+    from generators.hard import LATTICE_RADIUS
+    pts = generators.make("cocircular", 3000).astype(np.int64)
+    r2 = pts[:, 0] ** 2 + pts[:, 1] ** 2
+    k = np.round(np.sqrt(r2) / LATTICE_RADIUS).astype(np.int64)
+    assert np.array_equal(r2, (k * LATTICE_RADIUS) ** 2)
+    assert len(np.unique(pts, axis=0)) == len(pts)
+
+
+def test_degenerate_sets_are_what_they_say():
+    col = generators.make("collinear", 500)
+    assert np.array_equal(col[:, 0], 3 * col[:, 1])
+    fan = generators.make("collinear-fan", 500)
+    assert (fan[:, 0] != 3 * fan[:, 1]).sum() == 1
+    dup = generators.make("duplicates", 1000)
+    assert len(np.unique(dup, axis=0)) == 500
+    z = generators.make("signed-zeros", 400)
+    zeros = z[z == 0]
+    assert np.signbit(zeros).any() and (~np.signbit(zeros)).any()
+    assert len(np.unique(z + 0.0, axis=0)) < len(z)  # -0.0 rows repeat 0.0 rows
+    gis = generators.make("gis", 1000)
+    assert (gis[:, 0] >= 5e5).all() and np.ptp(gis, axis=0).max() < 100
+    assert 0 < np.abs(generators.make("subnormal", 100)).max() < 2.3e-308
+
+
+def test_magnitude_sets_refuse_float32():
+    with pytest.raises(ValueError, match="float64 set"):
+        generators.make("huge", 10, dtype="float32")
+
+
+def _laz(path, pts):
+    laspy = pytest.importorskip("laspy")
+    header = laspy.LasHeader(point_format=3, version="1.2")
+    header.scales, header.offsets = [0.01] * 3, [500_000.0, 4_000_000.0, 0.0]
+    las = laspy.LasData(header)
+    las.x, las.y, las.z = pts[:, 0], pts[:, 1], pts[:, 2]
+    las.write(path)
+    return path
+
+
+@pytest.mark.parametrize("suffix", [".las", ".laz"])
+def test_load_reads_las_and_laz_exactly(tmp_path, suffix):
+    pts = generators.make("lidar", 700)
+    path = _laz(tmp_path / f"cloud{suffix}", pts)
+    assert np.array_equal(generators.load(path), pts)
+    assert np.array_equal(generators.load(path, dim=2), pts[:, :2])
+
+
+def test_load_reads_npy_csv_and_parquet(tmp_path):
+    pts = generators.make("uniform", 50, seed=5)
+    np.save(tmp_path / "a.npy", pts)
+    np.savetxt(tmp_path / "plain.csv", pts, delimiter=",", fmt="%.17g")
+    (tmp_path / "named.csv").write_text("id,Y,X\n" + "\n".join(
+        f"{i},{y!r},{x!r}" for i, (x, y) in enumerate(pts.tolist())))
+    pq = pytest.importorskip("pyarrow.parquet")
+    import pyarrow as pa
+    pq.write_table(pa.table({"x": pts[:, 0], "y": pts[:, 1]}), tmp_path / "a.parquet")
+    for name in ("a.npy", "plain.csv", "named.csv", "a.parquet"):
+        assert np.array_equal(generators.load(tmp_path / name), pts), name
+
+
+@pytest.mark.parametrize("name,content,message", [
+    ("missing.laz", None, "no such point cloud"),
+    ("cloud.ply", "x", "unknown format"),
+    ("cols.csv", "a,b\n1,2\n", "no x/y columns"),
+    ("one.npy", np.arange(5.0), "no x/y columns"),
+    ("nan.csv", "x,y\n1,2\nnan,3\n", "NaN"),
+    ("empty.csv", "x,y\n", "empty"),
+    ("empty.npy", np.empty((0, 2)), "empty"),
+])
+def test_load_says_what_is_wrong(tmp_path, name, content, message):
+    path = tmp_path / name
+    if isinstance(content, str):
+        path.write_text(content)
+    elif content is not None:
+        np.save(path, content)
+    with pytest.raises((OSError, ValueError), match=message):
+        generators.load(path)
+
+
+def test_load_of_xy_alone_refuses_a_3d_experiment(tmp_path):
+    np.save(tmp_path / "xy.npy", np.random.default_rng(0).random((10, 2)))
+    with pytest.raises(generators.LoadError, match="no z column"):
+        generators.load(tmp_path / "xy.npy", dim=3)
