@@ -28,7 +28,6 @@ from drivers.surface import NOT_SCIPY, OPERATIONS
 
 from . import results
 from .experiment import Experiment, figure_paths
-from .report import FAILS, HOLDS
 from .runner import Cell
 
 SETS = {2: "uniform", 3: "cube"}
@@ -91,8 +90,9 @@ def ratios(ops):
 
 
 def claims(df):
-    """(claim, ours, verdict, why) rows of issue 51's targets, judged from
-    stored results only."""
+    """(claim, ours, held, why) rows of issue 51's targets, judged from
+    stored results only (``held``: True or False; experiments.report words
+    it)."""
     ops = operations(df)
     at, rs = _lookup(ops), ratios(ops)
     rows = []
@@ -102,14 +102,14 @@ def claims(df):
         rows.append((f"no operation slower than scipy's at any size ({regime})",
                      f"{sum(1 for k in rs if k[2] == regime)} (operation, size) pairs; slower: "
                      + (", ".join(slower) or "none"),
-                     HOLDS if not slower else FAILS,
+                     not slower,
                      "scipy time over lfqt's per operation, same points and queries"))
     for (d, n), limit in TARGET_SECONDS.items():
         r = at.get(("lfqt", d, n, "loop", "find_simplex_many"))
         if r is not None:
             rows.append((f"1M random queries on a {results.fmt_count(n)}-point {d}D mesh in at "
                          f"most {limit:g} s (warm)", f"{r.median:.3f} s",
-                         HOLDS if r.median <= limit else FAILS,
+                         bool(r.median <= limit),
                          "median of the loop regime"))
     for op, target in TARGET_RATIOS.items():
         got = [(k, v) for k, v in rs.items() if k[3] == op and k[2] == "loop"]
@@ -118,7 +118,7 @@ def claims(df):
             rows.append((f"{op}: at least {target:g}x faster than scipy",
                          ", ".join(f"{d}D {results.fmt_count(n)} {results.fmt_ratio(v)}"
                                    for (d, n, _, _), v in sorted(got)),
-                         HOLDS if worst >= target else FAILS,
+                         bool(worst >= target),
                          "scipy over lfqt, loop regime"))
     return rows
 
@@ -141,8 +141,8 @@ def plot(df, out):
             "  (with construction)" if op in WITH_CONSTRUCT else "")
         print(f"{regime:6} {d:>3} {n:>9,} {op:26} {r.median:9.4f} {theirs} {ratio:>10}{note}")
     print()
-    for claim, ours, verdict, why in claims(df):
-        print(f"{verdict:>14}: {claim}: {ours}")
+    for claim, ours, held, why in claims(df):
+        print(f"{'holds' if held else 'does not hold':>14}: {claim}: {ours}")
     dims = sorted(set(ops["dim"]))
     fig, axes = plt.subplots(len(regimes), len(dims), figsize=(7.5 * len(dims),
                                                                  4.2 * len(regimes)),
