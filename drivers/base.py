@@ -105,6 +105,15 @@ class Peer:
         return f"<peer {self.name}>"
 
 
+def run_reporting(command, what):
+    """Run a peer's own process (it dies with ours) and return the JSON
+    report it prints last; RuntimeError with its stderr's end if it fails."""
+    proc = subprocess.run(command, capture_output=True, text=True, preexec_fn=die_with_parent)
+    if proc.returncode != 0:
+        raise RuntimeError(f"{what} failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
 class CompiledPeer(Peer):
     """A peer run as one of our compiled drivers in its own process: the
     points go in as a .npy file, the driver times the operation itself
@@ -145,12 +154,7 @@ class CompiledPeer(Peer):
         self.extra_seconds = 0.0  # work of ours inside the timed run (an order we build)
 
     def run(self):
-        proc = subprocess.run(self.command, capture_output=True, text=True,
-                              preexec_fn=die_with_parent)
-        if proc.returncode != 0:
-            raise RuntimeError(f"{self.binary.name} failed ({proc.returncode}): "
-                               f"{proc.stderr.strip()}")
-        self.report = json.loads(proc.stdout.strip().splitlines()[-1])
+        self.report = run_reporting(self.command, self.binary.name)
 
     def self_timing(self):
         return self.report["seconds"] + self.extra_seconds, self.report["tsc_cycles"]

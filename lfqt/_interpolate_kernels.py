@@ -115,6 +115,13 @@ def _coordinates(P, S, N, T, s, X, i, c):
     return best
 
 
+@njit(cache=True, inline="always")
+def _fill(out, i, fill):
+    """Row i of out is the fill value (a query outside the hull)."""
+    for a in range(out.shape[1]):
+        out[i, a] = fill[a]
+
+
 @njit(cache=True, nogil=True)
 def _linear(mesh, found, X, V, fill, out, lo, hi):
     """out[lo:hi] = the barycentric mix of V over the simplex found for each
@@ -130,8 +137,7 @@ def _linear(mesh, found, X, V, fill, out, lo, hi):
     for i in range(lo, hi):
         s = found[i]
         if s < 0:
-            for a in range(k):
-                out[i, a] = fill[a]
+            _fill(out, i, fill)
             continue
         if np.isnan(T[s, 0, 0]):
             s = _coordinates(P, S, N, T, s, X, i, c)
@@ -236,8 +242,7 @@ def _clough_tocher(mesh, found, X, V, G, fill, out, lo, hi):
     for i in range(lo, hi):
         s = found[i]
         if s < 0:
-            for a in range(k):
-                out[i, a] = fill[a]
+            _fill(out, i, fill)
             continue
         s = _coordinates(P, S, N, T, s, X, i, b)
         _twist(P, S, N, T, s, g, cc, y)

@@ -12,7 +12,7 @@ import numpy.typing as npt
 
 from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
-from .derived import hyperplanes, transforms, vertex_neighbours
+from .derived import hyperplanes, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
 from .location import (TINY_SHIFT, coherent, grid_order, jump_sample, locate_brute, locate_rational,
                        locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
@@ -360,7 +360,11 @@ class Delaunay:
             raise ValueError("xi has different dimensionality than triangulation")
         eq = self.equations
         z = self.lift_points(xi.reshape(-1, self.ndim))
-        return (z @ eq[:, :-1].T + eq[:, -1]).reshape(xi.shape[:-1] + (self.nsimplex,))
+        out = np.empty((len(z), self.nsimplex))
+        workers = self._workers()
+        workers.map(workers.chunks(self.nsimplex),
+                    lambda c, lo, hi: plane_distances(eq, z, out, lo, hi))
+        return out.reshape(xi.shape[:-1] + (self.nsimplex,))
 
     # -- point location ---------------------------------------------------
 

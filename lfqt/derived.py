@@ -123,6 +123,22 @@ def hyperplanes(P, S, scale, shift, out, lo, hi):
 
 
 @njit(cache=True, nogil=True)
+def plane_distances(E, Z, out, lo, hi):
+    """out[:, lo:hi] = Z @ E[lo:hi, :-1].T + E[lo:hi, -1]: the signed
+    distance of each lifted point (row of Z) to the hyperplanes of simplices
+    lo:hi, written in place by blocks of simplices (numpy's expression makes
+    a strided copy of E and a second output-sized array)."""
+    k = E.shape[1] - 1
+    for b in range(lo, hi, 1024):
+        for r in range(Z.shape[0]):
+            for t in range(b, min(b + 1024, hi)):
+                acc = 0.0
+                for a in range(k):
+                    acc += Z[r, a] * E[t, a]
+                out[r, t] = acc + E[t, k]
+
+
+@njit(cache=True, nogil=True)
 def vertex_neighbours(S, n):
     """(indptr, indices): the sorted neighbours of vertex v are
     indices[indptr[v]:indptr[v+1]] (scipy's ``vertex_neighbor_vertices``).

@@ -20,8 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base import Peer, Result, Unavailable
-from ..isolate import die_with_parent
+from ..base import Peer, Result, Unavailable, run_reporting
 
 HERE = Path(__file__).resolve().parent
 RUNNER = HERE / "runner.mjs"
@@ -77,12 +76,7 @@ class DelaunatorPeer(Peer):
         self.command = [node(), str(RUNNER), points_path, self.out_path]
 
     def run(self):
-        proc = subprocess.run(self.command, capture_output=True, text=True,
-                              preexec_fn=die_with_parent)
-        if proc.returncode != 0:
-            raise RuntimeError(f"node runner.mjs failed ({proc.returncode}): "
-                               f"{proc.stderr.strip()[-500:]}")
-        self.report = json.loads(proc.stdout.strip().splitlines()[-1])
+        self.report = run_reporting(self.command, "node runner.mjs")
 
     def self_timing(self):
         return self.report["seconds"], None
