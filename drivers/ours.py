@@ -146,8 +146,8 @@ class LfqtRadixSort(_Ours):
         self.keys = ordered_bits(x).astype(np.uint64)
         self.sort = sort_keys
         self.workers = Workers(self.threads)
-        if not self.cold:
-            self.sort(self.keys[:64].copy(), np.arange(64, dtype=np.int32), self.workers)
+        _warmed(self, lambda: self.sort(self.keys[:64].copy(), np.arange(64, dtype=np.int32),
+                                        self.workers))
 
     def run(self):
         keys, perm = self.keys.copy(), np.arange(len(self.keys), dtype=np.int32)
@@ -179,8 +179,7 @@ class LfqtOrder(_Ours):
         from lfqt import orders
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.build = orders.order
-        if not self.cold:
-            self.build(self.points[:64], self.order)  # JIT warm-up
+        _warmed(self, lambda: self.build(self.points[:64], self.order))  # JIT warm-up
 
     def run(self):
         self.perm = None

@@ -203,7 +203,7 @@ class Delaunay:
         self._scale = 2.0 ** self._exponent
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
         self._cache = {}
-        self._located = 0  # queries walked so far (location_frame's trigger)
+        self._located = 0  # queries walked so far (_walk_frame's trigger)
 
     def _paraboloid(self):
         """Qhull's "Qbb" with scipy's "Qz": the lifted coordinates, with the
