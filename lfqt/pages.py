@@ -3,37 +3,22 @@ anonymous private mappings, with or without transparent huge pages, and
 their pages around a kept range given back.
 
 A huge page (2 MiB) costs one fault where small pages (4 KiB) cost 512, and
-fewer TLB misses afterwards: the divide and conquer runs 7% faster on them
-(1M points, calls back to back).  But on a virtual machine whose
-balloon hands free memory back to its host (virtio free page reporting, in
-blocks of 2 MiB), a freed huge page goes back to the host about 2 s later,
-and a fresh one then faults on the host too::
-
-    216 MB written once, fresh     huge pages     small pages
-    reused within 2 s              0.04 s        0.08 s
-    after the host took it back    0.4-0.6 s     0.08 s
-
-(our Firecracker VMs).  So huge pages pay for calls whose memory is soon
-reused, and cost most where calls run long: a 3D insertion of 1M points
-runs 4 s, and its cell records and output came back host-faulted on every
-call, 0.7 s of 4.6 (``host_takes_free_pages``).  An array's size stands for
-the length of the call that writes it, hence for how soon its pages come
-back (``huge_pays``)::
-
-    divide and conquer, T on        huge pages     small pages
-    1M points (T 48 MB), a call     0.230 s        0.240-0.258 s
-    4M (192 MB), a call             0.98-1.07 s    1.00-1.05 s
-    4M, a process's first call      1.02-1.52 s    1.00-1.16 s
-    6M (288 MB), a call             1.76-1.79 s    1.54-1.57 s
-    10M (480 MB), a call            2.85-2.98 s    2.58-2.62 s
-    10M, 2 threads, a call          1.33-2.58 s    1.49-1.77 s
+fewer TLB misses afterwards.  But on a virtual machine whose balloon hands
+free memory back to its host (virtio free page reporting, in blocks of
+2 MiB), the memory a fresh mapping gets has mostly been taken back by the
+host, and a fresh huge page then faults on the host too, at several times
+the cost of the same bytes in small pages.  Fresh memory is what a program
+that keeps its results meets on every call, and every process on its first
+call; only a warm loop that drops each result reuses its mappings (and
+there huge pages gain a few per cent at most).  So on such a host every
+mapping uses small pages (``huge_pays``); elsewhere, huge pages.  The
+numbers are in docs/performance.md ("huge pages and fresh memory").
 """
 import mmap
 import os
 
 import numpy as np
 
-SOON_REUSED = 128 << 20  # bytes: a larger array's call outlasts the host's ~2 s
 VIRTIO_DEVICES = "/sys/bus/virtio/devices"
 _BALLOON = 0x0005  # virtio device id of the memory balloon
 _REPORTING = 5  # its feature bit VIRTIO_BALLOON_F_REPORTING
@@ -53,12 +38,10 @@ def mapping(nbytes, huge=True):
     return buf
 
 
-def huge_pays(nbytes):
-    """Whether an array of ``nbytes`` goes on huge pages: unless the host
-    takes free pages back and the array is larger than SOON_REUSED, whose
-    call then runs long enough for the host to have taken back the pages
-    the last call freed (the table above)."""
-    return nbytes <= SOON_REUSED or not host_takes_free_pages()
+def huge_pays():
+    """Whether fresh mappings go on transparent huge pages: unless the host
+    takes free pages back (the module's docstring)."""
+    return not host_takes_free_pages()
 
 
 def mapping_of(a):

@@ -66,8 +66,8 @@ class Pool:
     def empty(self, shape, dtype, huge=None):
         """An uninitialized C-contiguous array, on an idle mapping of the
         pool or a fresh one (lfqt.pages), on huge pages if ``huge``, by
-        default where they pay (pages.huge_pays; the merges run 7% faster on
-        them): the advice of a fresh mapping, for an idle one keeps its own.
+        default where they pay (pages.huge_pays): the advice of a fresh
+        mapping, for an idle one keeps its own.
         Arrays under SMALLEST bytes come from numpy."""
         dtype = np.dtype(dtype)
         count = int(np.prod(shape))
@@ -76,7 +76,7 @@ class Pool:
             return np.empty(shape, dtype=dtype)
         buf = self._take(nbytes)
         if buf is None:
-            buf = pages.mapping(nbytes, pages.huge_pays(nbytes) if huge is None else huge)
+            buf = pages.mapping(nbytes, pages.huge_pays() if huge is None else huge)
         base = np.frombuffer(buf, dtype=dtype, count=count)
         # when base dies, every view of it has died: the mapping is free
         weakref.finalize(base, self._give, buf).atexit = False

@@ -65,10 +65,17 @@ def test_a_balloon_that_reports_free_pages_is_detected(tmp_path):
 
 
 @pytest.mark.parametrize("host_takes", [True, False])
-def test_huge_pages_pay_for_arrays_reused_soon_or_on_a_host_that_keeps_free_pages(
-        monkeypatch, host_takes):
+def test_huge_pages_only_on_a_host_that_keeps_free_pages(monkeypatch, host_takes):
     monkeypatch.setattr(pages, "host_takes_free_pages", lambda: host_takes)
-    assert pages.huge_pays(pages.SOON_REUSED)
-    assert pages.huge_pays(1 << 20)
-    assert pages.huge_pays(pages.SOON_REUSED + 1) is (not host_takes)
-    assert pages.huge_pays(1 << 34) is (not host_takes)
+    assert pages.huge_pays() is (not host_takes)
+
+
+@pytest.mark.parametrize("host_takes", [True, False])
+def test_a_fresh_mapping_of_the_pool_follows_huge_pays(monkeypatch, host_takes):
+    monkeypatch.setattr(pages, "host_takes_free_pages", lambda: host_takes)
+    asked = []
+    real = pages.mapping
+    monkeypatch.setattr(pages, "mapping", lambda nbytes, huge: asked.append(huge) or real(nbytes, huge))
+    pool = workspace.Pool()
+    a = pool.empty(workspace.SMALLEST * 3, np.uint8)
+    assert asked == [not host_takes] and a.nbytes == workspace.SMALLEST * 3
