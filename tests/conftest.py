@@ -6,6 +6,11 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 import lfqt
+import lfqt.preload
+
+# the import's kernel loading ends with a release of the pool's idle memory:
+# done before any test looks at the pool
+lfqt.preload.wait()
 
 settings.register_profile("ci", max_examples=60, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])

@@ -1,0 +1,59 @@
+"""The kernels of a process's first triangulation, loaded from numba's cache
+while the program that imported lfqt goes on.
+
+numba loads a cached kernel on its first call in a process, and before its
+first load of all it imports its own typing and lowering registries
+(``numba.np.arraymath`` imports ``scipy.linalg`` to look for a BLAS): that
+alone takes longer than a warm 1M-point call.  A program imports lfqt, then
+reads or makes its points; in that time a thread started by ``import lfqt``
+(``start``) loads the registries and the divide and conquer's kernels, by
+running it on one and on two threads on a set just large enough to take
+every path of a large call (two chunks of ``lfqt.workers.MIN_CHUNK``), and
+on float32 points.
+
+A call that comes before the thread is done waits for numba's compiler lock
+while the thread loads a kernel, no longer than it would have taken to load
+the kernel itself, so a first call is never slower than without the thread.
+A fork waits for the thread first: a child must not inherit numba's lock
+held.  ``LFQT_PRELOAD=0`` in the environment turns it off.
+"""
+import os
+import threading
+
+import numpy as np
+
+ENV = "LFQT_PRELOAD"
+_thread = None
+
+
+def start():
+    """Start loading the kernels in a daemon thread, once per process,
+    unless ``LFQT_PRELOAD=0``."""
+    global _thread
+    if _thread is not None or os.environ.get(ENV, "1") == "0":
+        return
+    _thread = threading.Thread(target=_load, name="lfqt-preload", daemon=True)
+    _thread.start()
+
+
+def wait():
+    """Block until the kernels are loaded (at once if nothing is loading)."""
+    if _thread is not None and _thread is not threading.current_thread():
+        _thread.join()
+
+
+def _load():
+    from . import workspace
+    from .dc import triangulate
+    from .workers import MIN_CHUNK
+    try:
+        pts = np.random.default_rng(0).random((2 * MIN_CHUNK + 2, 2))
+        triangulate(pts[:64])  # the default, one thread, first
+        triangulate(pts, threads=2)
+        triangulate(pts[:64].astype(np.float32))
+        workspace.release()  # the preload leaves no idle memory behind
+    except Exception:  # noqa: BLE001 - best effort: the first call loads whatever is missing
+        pass
+
+
+os.register_at_fork(before=wait)

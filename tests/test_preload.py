@@ -1,0 +1,83 @@
+"""lfqt.preload: the kernels of a first call are loaded by the import's
+thread, and a fork while it runs does not hang.  Each check runs in a new
+interpreter, the only place where nothing is loaded yet."""
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+LOADED = textwrap.dedent("""
+    import sys
+    import numba.core.registry
+
+
+    def loaded():
+        out = {}
+        for name, mod in list(sys.modules.items()):
+            if name == "lfqt" or name.startswith("lfqt."):
+                for attr, f in list(vars(mod).items()):
+                    if isinstance(f, numba.core.registry.CPUDispatcher):
+                        out[f"{name}.{attr}"] = set(map(str, f.signatures))
+        return out
+""")
+
+
+def _run(code, preload="1", timeout=600):
+    env = dict(os.environ, LFQT_PRELOAD=preload)
+    res = subprocess.run([sys.executable, "-c", LOADED + textwrap.dedent(code)], cwd=ROOT,
+                         env=env, capture_output=True, text=True, timeout=timeout)
+    assert res.returncode == 0, res.stderr
+    return res.stdout
+
+
+def test_a_first_call_of_any_size_and_thread_count_loads_nothing_the_import_did_not():
+    out = _run("""
+        import numpy as np
+        import lfqt
+        from lfqt import preload
+        from lfqt.workers import MIN_CHUNK
+        preload.wait()
+        before = loaded()
+        assert sum(map(len, before.values())) > 10, before
+        rng = np.random.default_rng(5)
+        pts = rng.random((2 * MIN_CHUNK + 1000, 2))
+        small = pts[:5000].astype(np.float32)
+        tris = [lfqt.triangulate(pts, threads=t) for t in (1, 2)] + [lfqt.triangulate(small)]
+        after = loaded()
+        new = {k: v - before.get(k, set()) for k, v in after.items() if v - before.get(k, set())}
+        assert all(lfqt.verify(p, t).ok for p, t in zip((pts, pts, small), tris))
+        print("new:", new)
+    """)
+    assert out.strip() == "new: {}", out
+
+
+def test_the_environment_turns_it_off():
+    out = _run("""
+        import lfqt
+        from lfqt import preload
+        preload.wait()
+        print(preload._thread is None, sum(map(len, loaded().values())))
+    """, preload="0")
+    assert out.split() == ["True", "0"]
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_a_fork_during_the_preload_waits_for_it_and_the_child_works():
+    out = _run("""
+        import os
+        import numpy as np
+        import lfqt
+        from lfqt import preload
+        pid = os.fork()  # at once: the thread is still loading
+        if pid == 0:
+            pts = np.random.default_rng(1).random((500, 2))
+            os._exit(0 if lfqt.verify(pts, lfqt.triangulate(pts)).ok else 3)
+        alive = preload._thread.is_alive()
+        _, status = os.waitpid(pid, 0)
+        print(alive, os.waitstatus_to_exitcode(status))
+    """, timeout=300)
+    assert out.split() == ["False", "0"]
