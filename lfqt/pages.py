@@ -14,6 +14,7 @@ there huge pages gain a few per cent at most).  So on such a host every
 mapping uses small pages (``huge_pays``); elsewhere, huge pages.  The
 numbers are in docs/performance.md ("huge pages and fresh memory").
 """
+import ctypes
 import mmap
 import os
 
@@ -23,6 +24,8 @@ VIRTIO_DEVICES = "/sys/bus/virtio/devices"
 _BALLOON = 0x0005  # virtio device id of the memory balloon
 _REPORTING = 5  # its feature bit VIRTIO_BALLOON_F_REPORTING
 _reporting = None
+MADV_POPULATE_WRITE = 23  # Linux 5.14+: fault a range in, writable, in one call
+_libc = None
 
 
 def mapping(nbytes, huge=True):
@@ -65,6 +68,23 @@ def give_back(buf, start, stop=None):
     stop = len(buf) if stop is None else stop // mmap.PAGESIZE * mmap.PAGESIZE
     if hasattr(mmap, "MADV_DONTNEED") and start < stop:
         buf.madvise(mmap.MADV_DONTNEED, start, stop - start)
+
+
+def populate(buf, start, stop):
+    """Fault in the pages of mapping ``buf`` between bytes ``start`` and
+    ``stop`` (page multiples) in one system call, writable, rather than one
+    fault per page at its first write: the kernel fills the page tables in a
+    loop, without a trap per page.  The call releases the GIL, so threads
+    can populate parts of one mapping at once.  Returns False where the
+    kernel cannot (before Linux 5.14), and nothing is done then."""
+    global _libc
+    if _libc is None:
+        _libc = ctypes.CDLL(None, use_errno=True)
+        _libc.madvise.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int]
+    if stop <= start:
+        return True
+    address = np.frombuffer(buf, dtype=np.uint8).ctypes.data + start
+    return _libc.madvise(address, stop - start, MADV_POPULATE_WRITE) == 0
 
 
 def host_takes_free_pages(devices=VIRTIO_DEVICES):

@@ -36,6 +36,7 @@ one thread, each result freed before the next call, interleaved: 1M
 """
 from __future__ import annotations
 
+import mmap
 import os
 import threading
 import time
@@ -48,6 +49,7 @@ from . import pages
 SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
 IDLE_SECONDS = 2.0  # an idle mapping is unmapped this long after its last use
 LIMIT = 2 << 30  # idle bytes the pool keeps at most
+POPULATE_CHUNK = 8 << 20  # bytes: less is not worth a thread
 
 
 class Pool:
@@ -63,12 +65,15 @@ class Pool:
         self._lock = threading.RLock()
         self._timer = None
 
-    def empty(self, shape, dtype, huge=None):
+    def empty(self, shape, dtype, huge=None, populate=None):
         """An uninitialized C-contiguous array, on an idle mapping of the
         pool or a fresh one (lfqt.pages), on huge pages if ``huge``, by
         default where they pay (pages.huge_pays): the advice of a fresh
-        mapping, for an idle one keeps its own.
-        Arrays under SMALLEST bytes come from numpy."""
+        mapping, for an idle one keeps its own.  ``populate`` (an
+        lfqt.workers.Workers), for an array the call writes whole: a fresh
+        mapping's pages are faulted in at once, in parallel over the
+        workers (pages.populate), before the kernels write them.  Arrays
+        under SMALLEST bytes come from numpy."""
         dtype = np.dtype(dtype)
         count = int(np.prod(shape))
         nbytes = count * dtype.itemsize
@@ -77,6 +82,8 @@ class Pool:
         buf = self._take(nbytes)
         if buf is None:
             buf = pages.mapping(nbytes, pages.huge_pays() if huge is None else huge)
+            if populate is not None:
+                _populate(buf, nbytes, populate)
         base = np.frombuffer(buf, dtype=dtype, count=count)
         # when base dies, every view of it has died: the mapping is free
         weakref.finalize(base, self._give, buf).atexit = False
@@ -168,6 +175,15 @@ class Pool:
             self._arm(self.idle_seconds)
 
 
+def _populate(buf, nbytes, workers):
+    """pages.populate over the whole pages of ``buf``'s first ``nbytes``,
+    a range per worker."""
+    npages = -(-nbytes // mmap.PAGESIZE)
+    workers.map(workers.chunks(npages, min_chunk=POPULATE_CHUNK // mmap.PAGESIZE),
+                lambda c, lo, hi: pages.populate(buf, lo * mmap.PAGESIZE,
+                                                 min(hi * mmap.PAGESIZE, len(buf))))
+
+
 def views(buf, *specs):
     """Consecutive arrays in the bytes of ``buf`` (a 1D uint8 array), one per
     (count, dtype) of ``specs``, each at a 64-byte aligned offset: arrays
@@ -197,9 +213,9 @@ if hasattr(os, "register_at_fork"):
     os.register_at_fork(after_in_child=POOL._after_fork)
 
 
-def empty(shape, dtype, huge=None):
+def empty(shape, dtype, huge=None, populate=None):
     """POOL.empty: memory for a call's large arrays."""
-    return POOL.empty(shape, dtype, huge)
+    return POOL.empty(shape, dtype, huge, populate)
 
 
 def keep_prefix(a, count):

@@ -50,6 +50,9 @@ def test_a_first_call_of_any_size_and_thread_count_loads_nothing_the_import_did_
         after = loaded()
         new = {k: v - before.get(k, set()) for k, v in after.items() if v - before.get(k, set())}
         assert all(lfqt.verify(p, t).ok for p, t in zip((pts, pts, small), tris))
+        # a first call gives the same mesh on one thread and on two
+        assert np.array_equal(tris[0].simplices, tris[1].simplices)
+        assert np.array_equal(tris[0].neighbors, tris[1].neighbors)
         print("new:", new)
     """)
     assert out.strip() == "new: {}", out

@@ -1,7 +1,9 @@
 """lfqt.workspace: mappings lent as arrays, taken back when the last view
 dies, reused best-fit, unmapped when idle; and the views that share one."""
 import gc
+import mmap
 import os
+import re
 import subprocess
 import sys
 import time
@@ -11,13 +13,29 @@ import pytest
 
 import lfqt
 from conftest import smaps_entry
-from lfqt import workspace
+from lfqt import pages, workspace
 
 MB = 1 << 20
 
 
 def _address(a):
     return a.__array_interface__["data"][0]
+
+
+def _resident_kb_over(spans):
+    """Resident kB of the memory areas of /proc/self/smaps that overlap any
+    (start, stop) of ``spans`` (the kernel may merge adjacent mappings into
+    one area); None where smaps is not available."""
+    try:
+        text = open("/proc/self/smaps").read()
+    except OSError:
+        return None
+    total = 0
+    for m in re.finditer(r"^([0-9a-f]+)-([0-9a-f]+) .*?\nRss:\s+(\d+) kB", text, re.M | re.S):
+        lo, hi = int(m.group(1), 16), int(m.group(2), 16)
+        if any(lo < stop and start < hi for start, stop in spans):
+            total += int(m.group(3))
+    return total
 
 
 def test_a_freed_array_is_reused_by_the_next_request():
@@ -222,6 +240,28 @@ def test_a_kept_result_is_never_lent_to_the_next_call():
     for a, b in zip((first.simplices, first.neighbors, first.duplicate_of), copies):
         assert np.array_equal(a, b)
     lfqt.verify(pts, first).raise_if_invalid()
+
+
+def test_a_kept_result_holds_no_more_resident_memory_than_its_arrays():
+    """Once the pool gives back what a result does not use (at release, or
+    at the next call's request), the mappings a result lies on hold its
+    arrays' pages and nothing of the call's scratch."""
+    pts = np.random.default_rng(8).random((300_000, 2))
+    tri = lfqt.triangulate(pts)
+    workspace.release()
+    arrays = (tri.simplices, tri.neighbors, tri.duplicate_of)
+    spans = set()
+    for a in arrays:
+        buf, offset = pages.mapping_of(a)
+        start = _address(a) - offset
+        spans.add((start, start + len(buf)))
+    assert len(spans) == 3  # each array on a mapping of its own
+    resident = _resident_kb_over(spans)
+    if resident is None:
+        pytest.skip("no /proc/self/smaps")
+    page_kb = mmap.PAGESIZE / 1024
+    assert resident <= sum(a.nbytes for a in arrays) / 1024 + 2 * len(arrays) * page_kb
+    lfqt.verify(pts, tri).raise_if_invalid()
 
 
 def test_a_freed_result_gives_its_memory_to_the_next_call():

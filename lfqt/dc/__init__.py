@@ -136,7 +136,7 @@ def triangulate(points: npt.ArrayLike, *, threads: int | np.integer[Any] | None 
         return _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf)
 
 
-def _memory(n, idx):
+def _memory(n, idx, workers):
     """The call's two large mappings (lfqt.workspace), each home in turn to
     arrays whose lives do not overlap, so that the phases of a call write
     the same pages one after the other instead of a fresh set each (and
@@ -158,11 +158,13 @@ def _memory(n, idx):
     and at two threads faults in parallel cost (1M, after a call whose
     result was freed and its T trimmed at once: the radix sort on two
     threads took 15 ms with perm_buf in T's second half, 9.9 ms here).
-    Returns (slots, points), uint8 arrays."""
+    Both are written whole, so a fresh mapping is populated at once, on
+    ``workers`` (workspace.empty).  Returns (slots, points), uint8 arrays."""
     slots = workspace.empty(max(workspace.view_bytes(_t_spec(n)),
-                                workspace.view_bytes(*_sort_specs(n, True))), np.uint8)
+                                workspace.view_bytes(*_sort_specs(n, True))), np.uint8,
+                            populate=workers)
     points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
-                                 3 * 2 * n * np.dtype(idx).itemsize), np.uint8)
+                                 3 * 2 * n * np.dtype(idx).itemsize), np.uint8, populate=workers)
     return slots, points
 
 
@@ -285,7 +287,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     n = pts.shape[0]
     t_validate = time.perf_counter()
     idx = index_dtype(n)
-    slots, points_mem = _memory(n, idx)
+    slots, points_mem = _memory(n, idx, workers)
     khi, klo, gaps, copies, perm, P, scale_exp = _sorted_points(pts, workers, idx, slots,
                                                                 points_mem)
     dtype = pts.dtype
