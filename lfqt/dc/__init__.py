@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 import time
-from typing import Any, Literal, get_args
+from typing import Any, Literal, NamedTuple, get_args
 
 import numpy as np
 import numpy.typing as npt
@@ -184,21 +184,43 @@ def _point_specs(n, idx):
     return [(2 * n, np.float64), (max(2 * n, 1), idx)]
 
 
+class Sorted(NamedTuple):
+    """Phase 1's output: the sorted keys (khi empty for 64-bit keys), the
+    uint8 gaps between adjacent ones, whether a key repeats, the
+    permutation, and the points in key order scaled by 2**scale_exp."""
+    khi: np.ndarray
+    klo: np.ndarray
+    gaps: np.ndarray
+    copies: bool
+    perm: np.ndarray
+    P: np.ndarray
+    scale_exp: int
+
+
+class Output(NamedTuple):
+    """The result's arrays (_output), and the reason the set is degenerate
+    ("" when it is not)."""
+    simplices: np.ndarray
+    neighbors: np.ndarray
+    hull: np.ndarray
+    duplicate_of: np.ndarray
+    n_distinct: int
+    reason: str
+
+
 def _sorted_points(pts, workers, idx_dtype, slots, points):
     """Phase 1: Morton keys of the C-contiguous (n, 2) points ``pts``, radix
     sort, the gaps between adjacent keys, and the points gathered in Morton
     order as float64 scaled by 2**scale_exp (exact; the exponent from the
     scan of the keys' pass, lfqt._input), in the mappings ``slots`` and
-    ``points`` (_memory).  Returns (khi, klo, gaps, whether a key repeats,
-    perm, P, scale_exp); khi is empty for 64-bit keys.  ValueError for NaN
-    or inf."""
+    ``points`` (_memory).  Returns a Sorted.  ValueError for NaN or inf."""
     n = pts.shape[0]
     khi, klo, perm, scan = sorted_keys(pts, workers, idx_dtype, (slots, points))
     scale_exp = exponent_for(pts.dtype, *magnitudes(pts, scan, workers))
     P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
     gaps, copies = key_gaps(khi, klo, pts.dtype == np.float64, workers, lambda lo, hi: (
         output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi)))
-    return khi, klo, gaps, copies, perm, P, scale_exp
+    return Sorted(khi, klo, gaps, copies, perm, P, scale_exp)
 
 
 def key_gaps(khi, klo, wide, workers, also=None):
@@ -243,21 +265,22 @@ def sorted_keys(pts, workers, idx_dtype, scratch=None):
     return klo[:0], klo, perm, scan
 
 
-def _state(P, khi, klo, gaps, copies, perm, dtype, scale_exp, level_filter, slots, points):
+def _state(s, dtype, level_filter, slots, points):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
-    the sorted keys and points, T and ops in the call's mappings (_memory).
+    the sorted keys and points ``s`` (a Sorted), T and ops in the call's
+    mappings (_memory).
     T is not filled: every slot a merge owns is written by it, and the
     output tells the others by their split position (output.fill_holes).
     The keys in T's memory are read no more once the merges start
     (State.drop_keys)."""
-    n = P.shape[0]
-    idx = perm.dtype
+    n = s.P.shape[0]
+    idx = s.perm.dtype
     T = workspace.views(slots, _t_spec(n))[0]
     ops = workspace.views(points, *_point_specs(n, idx))[1]
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
-    fmt = np.array([coord_bits, exp_bits, mant_bits, emin, scale_exp], dtype=np.int64)
-    mesh = Mesh(P, T, workspace.empty(n, idx), fmt, level_filter)
-    return State(khi, klo, dtype == np.float64, mesh, ops, gaps, gaps, copies)
+    fmt = np.array([coord_bits, exp_bits, mant_bits, emin, s.scale_exp], dtype=np.int64)
+    mesh = Mesh(s.P, T, workspace.empty(n, idx), fmt, level_filter)
+    return State(s.khi, s.klo, dtype == np.float64, mesh, ops, s.gaps, s.gaps, s.copies)
 
 
 def _serial(state, subdivision, counts):
@@ -288,16 +311,14 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     t_validate = time.perf_counter()
     idx = index_dtype(n)
     slots, points_mem = _memory(n, idx, workers)
-    khi, klo, gaps, copies, perm, P, scale_exp = _sorted_points(pts, workers, idx, slots,
-                                                                points_mem)
+    ordered = _sorted_points(pts, workers, idx, slots, points_mem)
     dtype = pts.dtype
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
-    state = _state(P, khi, klo, gaps, copies, perm, dtype, scale_exp, level_filter, slots,
-                   points_mem)
-    del slots  # T's array holds it from here on
-    del P, khi, klo, gaps
+    state = _state(ordered, dtype, level_filter, slots, points_mem)
+    perm, scale_exp = ordered.perm, ordered.scale_exp
+    del slots, ordered  # T's array holds it from here on
     counts = new_counters()
     parallel_run = subdivision == "lfqt" and (workers.threads > 1 or hybrid_leaf) and n > 1
     t_alloc = time.perf_counter()
@@ -311,8 +332,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
         n_bins = 1
     t_merge = time.perf_counter()
     wide = state.wide
-    simplices, neighbors, hull, duplicate_of, n_distinct, reason = _output(
-        state, perm, root, workers, points_mem)
+    out = _output(state, perm, root, workers, points_mem)
     del state
     t_output = time.perf_counter()
     # wall clock: in parallel only the top subdivision is apart from the merges
@@ -325,7 +345,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
         # paper Fig. 5: thread-seconds per phase, lower part (bins) and top
         "phases": dict(sort=t_sort - t_validate, **phases),
         "bins": n_bins,
-        "n_distinct": n_distinct,
+        "n_distinct": out.n_distinct,
         "key_bits": 128 if wide else 64,
         "scale_exponent": scale_exp,
         "subdivision": subdivision,
@@ -338,16 +358,15 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
         stats["leaf_size"], stats["leaf_order"] = hybrid_leaf
     if counters:
         stats["counts"] = as_dict(counts)
-        stats["per_point"] = per_point(stats["counts"], n_distinct)
-    return Triangulation(points=points, simplices=simplices, neighbors=neighbors, hull=hull,
-                         duplicate_of=duplicate_of, stats=stats, degenerate=bool(reason),
-                         reason=reason)
+        stats["per_point"] = per_point(stats["counts"], out.n_distinct)
+    return Triangulation(points=points, simplices=out.simplices, neighbors=out.neighbors,
+                         hull=out.hull, duplicate_of=out.duplicate_of, stats=stats,
+                         degenerate=bool(out.reason), reason=out.reason)
 
 
 def _output(state, perm, root, workers, points_mem):
-    """The real triangles in input indices, the hull loop and duplicate_of:
-    (simplices, neighbors, hull, duplicate_of, n_distinct, reason the set is
-    degenerate or "").  Takes the mesh out of ``state`` and builds
+    """The real triangles in input indices, the hull loop and duplicate_of,
+    as an Output.  Takes the mesh out of ``state`` and builds
     ``neighbors`` in T's own memory (lfqt.dc.output), ``simplices`` in
     P's and ops' (``points_mem``, _memory) and ``duplicate_of`` in
     ghost_out's, so that no array of the mesh and of the result coexist."""
@@ -399,7 +418,7 @@ def _output(state, perm, root, workers, points_mem):
                            "report the input")
     for (lo, _), length in list(zip(chunks, lengths))[2:]:  # in order, each over the last
         output.move_rows_parallel(T, 6 * lo, head + 3 * lo, length, workers)
-    return simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason
+    return Output(simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason)
 
 
 def _first_copies(gaps, perm, workers, out):
