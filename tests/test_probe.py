@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from experiments import probe
+from experiments.core import probe
 
 
 def test_the_chase_buffer_is_one_cycle_through_every_entry():

@@ -1,13 +1,13 @@
 """experiments.registry: one registry that --list and the main job read."""
 from experiments import __main__ as cli
-from experiments import registry
+from experiments.core import registry
 
 
 def test_every_published_item_is_listed_once_with_its_command(capsys):
     assert cli.main(["--list"]) == 0
     lines = capsys.readouterr().out.splitlines()
     exps = registry.experiments()
-    for paper, item in registry.PUBLISHED:
+    for paper, item in registry.published():
         hits = [l for l in lines if l.startswith(f"{paper} {item} ")]
         assert len(hits) == 1, (paper, item)
         owner = [e for e in exps.values() if (paper, item) in e.reproduces]

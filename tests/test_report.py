@@ -2,8 +2,8 @@
 so that each rule is seen to pass, fall short and go missing."""
 import pytest
 
-from experiments import report, results
-from experiments.runner import Cell
+from experiments.core import report, results
+from experiments.core.runner import Cell
 
 DISTS = ("uniform", "grid", "cluster", "circle", "spiral")
 

@@ -5,8 +5,8 @@ import csv
 import numpy as np
 import pytest
 
-from experiments import results
-from experiments.runner import Cell
+from experiments.core import results
+from experiments.core.runner import Cell
 
 
 def test_every_published_csv_parses_the_same_with_pandas_and_csv():

@@ -11,9 +11,9 @@ import sys
 
 import numpy as np
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 DISTS = ["uniform", "cluster", "circle", "spiral", "grid"]
 SIZES = {"smoke": [20_000], "default": [1_000_000], "paper": [10_000_000]}

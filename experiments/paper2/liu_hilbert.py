@@ -10,10 +10,11 @@ import sys
 
 import numpy as np
 
-from . import liu, results
-from .experiment import Experiment, figure_paths
+from . import liu
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
 from .liu_counts import per_point
-from .runner import Cell
+from ..core.runner import Cell
 
 CANDIDATES = {"lfqt-insert-hilbert": "our Hilbert, lfqt", "cgal-dt3-hilbert": "our Hilbert, CGAL",
               "cgal-dt3-hilbert-sort": "CGAL hilbert_sort",

@@ -5,9 +5,9 @@ import sys
 
 import numpy as np
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 PEERS = ["lfqt-dc", "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle",

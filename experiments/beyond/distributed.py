@@ -26,9 +26,9 @@ import numpy as np
 
 from generators import chunked
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .machine import machine_info
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.machine import machine_info
 
 SETS = ["uniform", "cluster"]
 SIZES = {"smoke": [100_000], "default": [1_000_000, 10_000_000],

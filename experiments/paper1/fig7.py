@@ -16,9 +16,9 @@ import numpy as np
 
 import drivers
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 SIZES = {"smoke": [200_000, 400_000],
          "default": [2_000_000, 4_000_000, 6_000_000, 8_000_000, 10_000_000],

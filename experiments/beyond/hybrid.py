@@ -12,9 +12,9 @@ import numpy as np
 
 from drivers.ours import LEAF_SIZES
 
-from . import results
-from .experiment import Experiment, figure_paths, many_threads
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths, many_threads
+from ..core.runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 SIZES = {"smoke": [20_000], "default": [1_000_000], "paper": [1_000_000, 10_000_000]}

@@ -12,8 +12,8 @@ import sys
 
 import numpy as np
 
-from .experiment import Experiment, figure_paths, many_threads
-from .runner import Cell
+from ..core.experiment import Experiment, figure_paths, many_threads
+from ..core.runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 SIZES = {"smoke": [100_000], "default": [1_000_000], "paper": [10_000_000]}

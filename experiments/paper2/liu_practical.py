@@ -11,9 +11,10 @@ import sys
 
 import generators
 
-from . import liu, results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from . import liu
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 # stand-in: (the paper's model, its table)
 MODELS = {"statue-standin": ("statue (Happy Buddha)", 16), "gearbox-standin": ("gear box", 16),

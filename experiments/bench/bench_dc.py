@@ -35,9 +35,9 @@ from pathlib import Path
 
 from drivers.isolate import REGIMES
 
-from . import results
-from .experiment import Experiment, figure_paths, label_ends
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths, label_ends
+from ..core.runner import Cell
 
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 3_000_000, 10_000_000]}

@@ -11,9 +11,10 @@ import sys
 
 import numpy as np
 
-from . import liu, results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from . import liu
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 
 def grid(scale, threads):

@@ -30,9 +30,9 @@ import numpy as np
 import generators
 from drivers.exactness import describe
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 REFERENCE = "lfqt-dc"
 PEERS = [REFERENCE, "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle",

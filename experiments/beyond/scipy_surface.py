@@ -26,9 +26,9 @@ import numpy as np
 
 from drivers.surface import NOT_SCIPY, OPERATIONS
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 SETS = {2: "uniform", 3: "cube"}
 SIZES = {"smoke": {2: [2_000], 3: [2_000]},

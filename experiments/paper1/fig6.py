@@ -19,9 +19,9 @@ import sys
 
 import numpy as np
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 SIZES = {"smoke": 100_000, "default": 1_000_000, "paper": 10_000_000}
@@ -34,7 +34,7 @@ COLORS = dict(uniform="#1b6ca8", grid="#3aa655", cluster="#d1495b", circle="#eda
 def default_counts():
     """Powers of two up to the logical CPUs, plus the physical core count
     and the logical CPU count."""
-    from .machine import topology
+    from ..core.machine import topology
     top = topology()
     logical = top["logical_cpus"] or os.cpu_count() or 1
     counts = {1, logical, top["physical_cores"] or logical}
@@ -76,8 +76,8 @@ def speedups(df):
 def machine_scaling(args):
     """Sidecar entry: this machine's own thread scaling (experiments.probe)
     at the grid's thread counts, up to its logical CPUs."""
-    from .machine import topology
-    from .probe import thread_scaling
+    from ..core.machine import topology
+    from ..core.probe import thread_scaling
     logical = topology()["logical_cpus"] or os.cpu_count() or 1
     counts = [t for t in _counts(args.thread_counts) if t <= logical]
     return {"thread_scaling": thread_scaling(counts)}

@@ -6,9 +6,9 @@ import sys
 
 import numpy as np
 
-from .experiment import Experiment, figure_paths
-from .machine import cache_sizes
-from .runner import Cell
+from ..core.experiment import Experiment, figure_paths
+from ..core.machine import cache_sizes
+from ..core.runner import Cell
 
 DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
 SIZES = {"smoke": [1_000, 10_000, 100_000],

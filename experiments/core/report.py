@@ -225,7 +225,7 @@ def fig5_top(res):
     df = res.frame("fig5")
     if df is None:
         return [_missing(*claim, "fig5")]
-    from .fig5 import shares
+    from ..paper1.fig5 import shares
     ok = df[(df["status"] == "ok") & (df["peer"] == "lfqt-dc")]
     t = int(ok["threads"].max())
     sub = ok[ok["threads"] == t]
@@ -243,7 +243,7 @@ def fig6_scaling(res):
     df = res.frame("fig6")
     if df is None:
         return [_missing(*claim, "fig6")]
-    from .fig6 import ceilings, speedups
+    from ..paper1.fig6 import ceilings, speedups
     series = speedups(df)
     meta = res.meta("fig6")
     physical = meta.get("physical_cores") or 1
@@ -273,7 +273,7 @@ def table1_bounds(res):
     s = res.summary("table1", by=["peer", "distribution", "n", "dtype", "count"])
     if s is None:
         return [_missing(*c, "table1") for c in claims]
-    from .table1 import undecided
+    from ..paper1.table1 import undecided
     rows = []
     parts, pairs = [], []
     for (d, n, dtype), (const, level) in undecided(s).items():
@@ -355,8 +355,8 @@ def _liu_ratios(res):
     s = res.summary("liu_times")
     if s is None:
         return None
-    from . import liu
-    from .liu_times import ratios_to_kd
+    from ..paper2 import liu
+    from ..paper2.liu_times import ratios_to_kd
     out = {}
     for model in liu.MODELS:
         ns = sorted({k[2] for k in s.index if k[1] == model})
@@ -424,7 +424,7 @@ def liu_counts_flat(res):
     df = res.frame("liu_counts")
     if df is None:
         return [_missing(*claim, "liu_counts")]
-    from .liu_counts import flat_counts
+    from ..paper2.liu_counts import flat_counts
     flat = flat_counts(df)
     kd = {k: v for k, v in flat.items() if k[2] == "kdtree" and k[0] != "paper" and v == v}
     if not kd:
@@ -478,7 +478,7 @@ def liu_practical_claims(res):
     s = res.summary("liu_practical")
     if s is None:
         return [_missing(c, p, "liu_practical") for c, p in claims]
-    from .liu_practical import outcome
+    from ..paper2.liu_practical import outcome
     rows = []
     big = ("gearbox-standin", "constrained-cube-standin")
     parts, aborted, slow = [], 0, 0
@@ -525,7 +525,7 @@ def liu_hilbert_question(res):
     df = res.frame("liu_hilbert")
     if df is None:
         return [_missing(*claim, "liu_hilbert")]
-    from .liu_hilbert import CANDIDATES, best_matches
+    from ..paper2.liu_hilbert import CANDIDATES, best_matches
     best = best_matches(df)
     text = "; ".join(f"nearest to the paper's {o}: {CANDIDATES[p]} ({v:.0%} mean distance)"
                      for o, (p, v) in best.items())
@@ -540,7 +540,7 @@ def hybrid_answer(res):
     df = res.frame("hybrid")
     if df is None:
         return [_missing(*claim, "hybrid")]
-    from .hybrid import best_leaves
+    from ..beyond.hybrid import best_leaves
     best = best_leaves(df)
     if not best:
         return [_missing(*claim, "hybrid")]
@@ -596,7 +596,7 @@ def scipy_surface_claims(res):
     if df is None:
         return [_missing("lfqt.Delaunay and lfqt.interpolate at or below scipy's time on every "
                          "operation", "scipy 1.17 (Qhull)", "scipy_surface")]
-    from .scipy_surface import claims
+    from ..beyond.scipy_surface import claims
     return [Row(claim, "scipy's time, same points and queries", ours, HOLDS if held else FAILS,
                 why, "scipy_surface") for claim, ours, held, why in claims(df)]
 
@@ -646,7 +646,7 @@ def render(root, scale):
                 lines.append(f"| {k} | {row.claim} | {row.published} | {row.ours} | "
                              f"**{row.verdict}** | {row.why} | {row.source} |")
         lines.append("")
-    from .field import report_lines  # tables, not claims: the peers of 2026 against lfqt
+    from ..beyond.field import report_lines  # tables, not claims: the peers of 2026 against lfqt
     lines += report_lines(res.frame("field"))
     return "\n".join(lines)
 
