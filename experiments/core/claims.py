@@ -83,8 +83,8 @@ class Claim:
     rule: Callable = None
     limits: dict = field(default_factory=dict)
 
-    def row(self, ours, verdict, why, text=None):
-        return Row(text or self.text, self.published, ours, verdict, why)
+    def row(self, ours, verdict, why, text=None, published=None):
+        return Row(text or self.text, published or self.published, ours, verdict, why)
 
     def missing(self, why=""):
         """A *not measured yet* row; without ``why`` the report names the
