@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 
+from ..core.claims import FAILS, HOLDS, MISSING, PARTLY, UNTESTABLE, AtLeast, AtMost, Claim, Share
 from ..core.experiment import Experiment, figure_paths
 from ..core.machine import cache_sizes
 from ..core.runner import Cell
@@ -69,8 +70,107 @@ def plot(df, out):
     return figure_paths(fig, out, "fig4")
 
 
+def _rate(res):
+    """(lfqt's rate in MP/s by (set, n), from the minimum TSC time at 3 GHz
+    as the paper; the sizes measured)."""
+    df = res.frame("fig4")
+    ok = df[(df["peer"] == "lfqt-dc") & (df["status"] == "ok")]
+    rate = ok.groupby(["distribution", "n"])["seconds_at_3ghz"].min().dropna()
+    return rate.index.get_level_values("n") / rate / 1e6, sorted(ok["n"].unique())
+
+
+def _flat(claim, res):
+    rate, sizes = _rate(res)
+    caches = res.meta("fig4").get("caches", {})
+    # sizes whose working set is past a cache by a margin: that cache no longer holds it
+    margin = claim.limits["past_cache"]
+    last = "L3" if "L3" in caches else "L2"
+    beyond = [n for n in sizes
+              if n * WORKING_SET_BYTES_PER_POINT > margin * caches.get(last, 32 * 2 ** 20)]
+    past_l2 = [n for n in sizes
+               if n * WORKING_SET_BYTES_PER_POINT > margin * caches.get("L2", 2 ** 20)]
+    orders = np.log10(sizes[-1] / sizes[0]) if sizes else 0.0  # of the sizes measured
+
+    def spans(ns):
+        """{set: relative spread of its rate over the sizes of ns it has (2 or more)}."""
+        out = {}
+        for d in ("uniform", "grid", "cluster"):
+            if d in rate.index.get_level_values(0):
+                r = rate.loc[d]
+                r = r[r.index.isin(ns)]
+                if len(r) > 1:
+                    out[d] = r.max() / r.min() - 1
+        return out
+    if len(beyond) >= 2 and spans(beyond):
+        sp = spans(beyond)
+        flat = claim.rule(max(sp.values())) == HOLDS
+        return claim.row(f"past {last} ({beyond[0]:,} to {beyond[-1]:,}) the rate varies "
+                         + ", ".join(f"{d} {v:.0%}" for d, v in sp.items())
+                         + f"; {orders:.1f} orders of magnitude measured",
+                         (HOLDS if orders >= claim.limits["orders"] else PARTLY) if flat
+                         else FAILS,
+                         f"flat past {last} (within {claim.rule.holds:.0%})" if flat else
+                         f"the rate keeps falling past {last}")
+    if len(past_l2) >= 2 and spans(past_l2):
+        sp = spans(past_l2)
+        return claim.row(f"between L2 and {last} ({past_l2[0]:,} to {past_l2[-1]:,}) the rate "
+                         "varies " + ", ".join(f"{d} {v:.0%}" for d, v in sp.items()),
+                         UNTESTABLE, f"no two sizes past {last} "
+                         f"({caches.get(last, 0) / 2**20:.0f} MiB) at this scale; the paper "
+                         "scale runs to 1e8")
+    return claim.missing("needs sizes past the caches: the default scale")
+
+
+def _grid_fastest(claim, res):
+    rate, sizes = _rate(res)
+    # only sizes where Grid and at least one other set were measured can rank them
+    measured = {n: [d for d in DISTS if (d, n) in rate.index] for n in sizes
+                if n >= claim.limits["from_n"]}
+    big = [n for n, ds in measured.items() if "grid" in ds and len(ds) > 1]
+    if not big:
+        return claim.missing("needs Grid and another set at 100k or more: "
+                             "`python -m experiments.fig4`")
+    top = {n: max(measured[n], key=lambda d: rate[(d, n)]) for n in big}
+    return claim.row("highest at " + ", ".join(f"{n:,}: {d}" for n, d in top.items()),
+                     claim.rule(sum(top[n] == "grid" for n in big), len(big)),
+                     "sizes from 100k (TSC at 3 GHz, minimum of the repeats, as the paper)")
+
+
+def _cluster_rises(claim, res):
+    rate, sizes = _rate(res)
+    huge = claim.limits["huge_n"]
+    if sizes and sizes[-1] >= huge and "cluster" in rate.index.get_level_values(0):
+        c = rate.loc["cluster"]
+        r = c.iloc[-1] / c.loc[[n for n in c.index if n >= claim.limits["from_n"]][0]]
+        return claim.row(f"Cluster rate x{r:.2f} from 10M to {c.index[-1]:,}", claim.rule(r),
+                         "the paper's float32 Cluster gains duplicates at huge sizes; "
+                         "our sets are float64 unless asked")
+    return claim.row("-", UNTESTABLE if sizes else MISSING,
+                     f"needs 1e8+ points (largest here {sizes[-1]:,}): the paper scale")
+
+
+CLAIMS = (
+    Claim("the rate is flat over more than 6 orders of magnitude, apart from cache effects",
+          "flat from 1e3 to 5e8 but for the L1/L2 and L3 bends (Fig. 4)", _flat,
+          # the largest relative spread of a set's rate past the last cache
+          rule=AtMost(holds=0.3),
+          # orders of magnitude of sizes measured for a full *holds*; a working set
+          # this many times a cache's size has left it
+          limits={"orders": 6, "past_cache": 2}),
+    Claim("Grid has the highest rate", "Grid highest, then Cluster, then Uniform (Fig. 4)",
+          _grid_fastest, rule=Share(holds=1.0),  # Grid on top at every size ranked
+          limits={"from_n": 100_000}),
+    Claim("Cluster's rate rises at huge sizes",
+          "'slight increase ... towards huge input sizes', from degenerate points (Fig. 4)",
+          _cluster_rises,
+          rule=AtLeast(holds=1.02),  # the rate at the largest size over 10M's
+          limits={"huge_n": 100_000_000, "from_n": 10_000_000}),
+)
+
+
 EXPERIMENT = Experiment("fig4", "lfqt's single-thread rate from 1k points up, cache sizes marked",
-                        grid, plot, reproduces=(("Paper 1", "Fig. 4"),), repeats=5, main_job=True)
+                        grid, plot, reproduces=(("Paper 1", "Fig. 4"),), repeats=5, main_job=True,
+                        claims=CLAIMS)
 main = EXPERIMENT.main
 
 
