@@ -13,6 +13,7 @@ import numpy as np
 
 from . import liu
 from ..core import results
+from ..core.claims import AtMost, Claim
 from ..core.experiment import Experiment, figure_paths
 from ..core.runner import Cell
 
@@ -146,10 +147,31 @@ def plot(df, out):
     return figure_paths(fig, out, "liu_counts")
 
 
+def _flat(claim, res):
+    flat = flat_counts(res.frame("liu_counts"))
+    kd = {k: v for k, v in flat.items() if k[2] == "kdtree" and k[0] != "paper" and v == v}
+    if not kd:
+        return claim.missing("needs two sizes per model: the default scale")
+    others = [v for k, v in flat.items() if k[2] != "kdtree" and k[0] == "CGAL" and v == v]
+    worst = max(kd.values())
+    paper = [v for k, v in flat.items() if k[0] == "paper" and k[2] == "kdtree" and v == v]
+    return claim.row(f"Kd's largest spread across sizes {worst:.1%} (lfqt and CGAL); BRIO and "
+                     f"Hilbert up to {max(others, default=float('nan')):.0%}; the paper's Kd up "
+                     f"to {max(paper, default=float('nan')):.0%}", claim.rule(worst),
+                     "(max - min) / mean of each count over the measured sizes")
+
+
+CLAIMS = (
+    Claim("Kd's counts are flat in the size", "Kd orientation and conflicts per point nearly "
+          "constant over six sizes (Tables 8-14)", _flat,
+          rule=AtMost(holds=0.1, partly=0.25)),  # Kd's largest (max - min) / mean of a count
+)
+
+
 EXPERIMENT = Experiment("liu_counts", "orientation tests and conflicts per point, seven 3D models, "
                         "three orders, in CGAL and in lfqt", grid, plot,
                         reproduces=tuple(("Paper 2", f"Table {k}") for k in range(8, 15)),
-                        repeats=1, main_job=True)
+                        repeats=1, main_job=True, claims=CLAIMS)
 main = EXPERIMENT.main
 
 
