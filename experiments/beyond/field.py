@@ -264,7 +264,7 @@ def _exactness_figure(cells, sets, out):
 EXPERIMENT = Experiment("field", "the field today: lfqt against every 2D peer of 2026, timed and "
                         "checked exactly, on paper 1's sets, a LiDAR model and the hard sets",
                         grid, plot, repeats=3, known_failure=known_failure, check=True,
-                        timeouts=TIMEOUTS)
+                        timeouts=TIMEOUTS, tables=report_lines)
 main = EXPERIMENT.main
 
 
