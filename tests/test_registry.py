@@ -19,3 +19,30 @@ def test_main_job_comes_from_the_registry():
     names = [e.name for e in registry.main_job()]
     assert {"fig3", "fig4", "liu_times", "liu_counts"} <= set(names)
     assert "bench_dc" not in names
+
+
+def test_every_experiment_runs_by_its_short_name():
+    """``python -m experiments.<name>`` and ``import experiments.<name>``
+    reach the module in its section: the very module, not a copy."""
+    import importlib
+    import importlib.util
+    import subprocess
+    import sys
+    for name, e in registry.experiments().items():
+        assert importlib.util.find_spec(f"experiments.{name}") is not None
+        module = importlib.import_module(f"experiments.{name}")
+        assert module.EXPERIMENT is e and module.__name__.count(".") == 2
+    assert importlib.util.find_spec("experiments.no_such_experiment") is None
+    assert importlib.import_module("experiments.report").__name__ == "experiments.core.report"
+    out = subprocess.run([sys.executable, "-m", "experiments.table1", "--help"],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and "usage: python -m experiments.table1" in out.stdout
+
+
+def test_each_section_lists_what_its_modules_declare():
+    import experiments
+    sections = registry.sections()
+    assert [t for t, _ in sections][:2] == list(registry.papers().values())
+    assert len(sections) == len(experiments.SECTIONS)
+    names = [e.name for _, exps in sections for e in exps]
+    assert len(names) == len(set(names)) and "liu" not in names  # a helper module, no EXPERIMENT
