@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 
+import generators
 from drivers.ours import LEAF_SIZES
 
 from ..core import results
@@ -17,7 +18,8 @@ from ..core.claims import Claim, Share
 from ..core.experiment import Experiment, figure_paths, many_threads
 from ..core.runner import Cell
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": [20_000], "default": [1_000_000], "paper": [1_000_000, 10_000_000]}
 LEAVES = {"smoke": [64, 1024], "default": [16, 256, 4096, 65536, 1048576], "paper": LEAF_SIZES}
 

@@ -5,12 +5,15 @@ import sys
 
 import numpy as np
 
+import generators
+
 from ..core import results
 from ..core.claims import FAILS, HOLDS, MISSING, AtLeast, AtMost, Claim
 from ..core.experiment import Experiment, figure_paths
 from ..core.runner import Cell
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 PEERS = ["lfqt-dc", "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle",
          "lfqt-dc-alternating", "qhull-2d"]
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],

@@ -6,12 +6,15 @@ import sys
 
 import numpy as np
 
+import generators
+
 from ..core.claims import FAILS, HOLDS, MISSING, PARTLY, UNTESTABLE, AtLeast, AtMost, Claim, Share
 from ..core.experiment import Experiment, figure_paths
 from ..core.machine import cache_sizes
 from ..core.runner import Cell
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": [1_000, 10_000, 100_000],
          "default": [1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000, 3_000_000],
          "paper": [int(v) for v in np.logspace(3, 8, 16)] + [500_000_000]}

@@ -12,11 +12,14 @@ import sys
 
 import numpy as np
 
+import generators
+
 from ..core.claims import UNTESTABLE, AtMost, Claim
 from ..core.experiment import Experiment, figure_paths, many_threads
 from ..core.runner import Cell
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": [100_000], "default": [1_000_000], "paper": [10_000_000]}
 PHASES = [("sort", "sort"), ("subdivide_lower", "subdivide (bins)"),
           ("merge_lower", "merge (bins)"), ("subdivide_top", "subdivide (top)"),

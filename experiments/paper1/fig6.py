@@ -19,12 +19,15 @@ import sys
 
 import numpy as np
 
+import generators
+
 from ..core import results
 from ..core.claims import UNTESTABLE, AtLeast, Claim
 from ..core.experiment import Experiment, figure_paths
 from ..core.runner import Cell
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": 100_000, "default": 1_000_000, "paper": 10_000_000}
 SIZES_3D = {"smoke": 30_000, "default": 300_000, "paper": 1_000_000}
 PUBLISHED = [(16, 13.0, 14.0, "16 cores: 13-14x"), (32, 17.0, 17.0, "16c/32t: ~17x")]

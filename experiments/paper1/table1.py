@@ -11,12 +11,15 @@ import sys
 
 import numpy as np
 
+import generators
+
 from ..core import results
 from ..core.claims import FAILS, HOLDS, MISSING, PARTLY, UNTESTABLE, Claim
 from ..core.experiment import Experiment, figure_paths
 from ..core.runner import Cell
 
-DISTS = ["uniform", "cluster", "circle", "spiral", "grid"]
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": [20_000], "default": [1_000_000], "paper": [10_000_000]}
 # (configuration as the paper names it, our peer)
 CONFIGS = [("Triangle", "triangle-native"), ("fqDel-const", "lfqt-dc-constant"),
