@@ -228,6 +228,25 @@ def test_known_failures_are_recorded_with_their_reason_not_waited_for(tmp_path):
     assert fig3.known_failure("paper", Cell("qhull-2d", "circle", 100_000)) is None
 
 
+def test_a_peers_caps_and_known_failures_come_from_its_driver_module():
+    """drivers.qhull holds Qhull's size caps and its known hang; fig3,
+    bench_dc and field read them there."""
+    import drivers
+    from drivers import qhull
+    from experiments.bench import bench_dc
+    from experiments.paper1 import fig3
+    assert drivers.known_failure("qhull-2d", "circle", qhull.COCIRCULAR_HANG_N)
+    assert drivers.known_failure("qhull-2d", "circle", qhull.COCIRCULAR_HANG_N - 1) is None
+    assert drivers.known_failure("startinpy", "circle", 100_000)
+    assert drivers.known_failure("lfqt-dc", "circle", 10 ** 8) is None  # no known failure
+    with pytest.raises(ValueError, match="unknown peer"):
+        drivers.known_failure("no-such-peer", "circle", 1)
+    for exp in (fig3, bench_dc):
+        for scale, cap in qhull.MAX_N.items():
+            sizes = {c.n for c in exp.grid(scale, 1) if c.peer == "qhull-2d"}
+            assert all(n <= cap for n in sizes), (exp.__name__, scale)
+
+
 def test_fig5_phases_add_up_and_the_top_appears_with_threads(tmp_path, capsys):
     from experiments.paper1 import fig5
     assert fig5.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",

@@ -33,6 +33,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from drivers import qhull
 from drivers.isolate import REGIMES
 
 from ..core import results
@@ -46,10 +47,6 @@ DISTS = {"smoke": ["uniform"], "default": ["uniform", "grid", "cluster", "spiral
          "paper": ["uniform", "grid", "cluster", "spiral"]}
 PEERS = ["lfqt-dc", "lfqt-dc-alternating", "triangle-native", "triangle", "cgal-dt2",
          "cgal-dt2-indexed", "qhull-2d"]
-# Qhull, 30-40x slower than lfqt and no target of ours, needs ~14 s per run
-# at 1M and times out on grid: at 1M it took two thirds of the default
-# bench's 25 minutes, so the default grid measures it at 100k only.
-QHULL_MAX = {"smoke": 1_000_000, "default": 100_000, "paper": 1_000_000}
 REFERENCE = "lfqt-dc"
 REGIME_TEXT = {"loop": "a warm process, each result dropped",
                "kept": "a warm process, every result kept alive",
@@ -88,7 +85,7 @@ def verdict(family, dist, n, ratio):
 def grid(scale, threads):
     return [Cell(peer, dist, n, threads=threads if peer == REFERENCE else 1)
             for dist in DISTS[scale] for n in SIZES[scale] for peer in PEERS
-            if not (peer.startswith("qhull") and n > QHULL_MAX[scale])]
+            if not peer.startswith("qhull") or qhull.measured_at(scale, n)]
 
 
 def compile_seconds():

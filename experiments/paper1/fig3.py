@@ -6,6 +6,7 @@ import sys
 import numpy as np
 
 import generators
+from drivers import qhull
 
 from ..core import results
 from ..core.claims import FAILS, HOLDS, MISSING, AtLeast, AtMost, Claim
@@ -18,24 +19,26 @@ PEERS = ["lfqt-dc", "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle
          "lfqt-dc-alternating", "qhull-2d"]
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 10_000_000, 100_000_000]}
-# Qhull takes ~13 s per 1M uniform points and far longer on Circle; the smoke
-# scale checks our pipeline, not Qhull, and leaves it out.
-QHULL_MAX = {"smoke": 0, "default": 100_000, "paper": 1_000_000}
+
+
+def _measured(scale, peer, n):
+    """Qhull within its caps (drivers.qhull); the smoke scale checks our
+    pipeline, not Qhull, and leaves it out."""
+    return not peer.startswith("qhull") or (scale != "smoke" and qhull.measured_at(scale, n))
 
 
 def known_failure(scale, cell):
-    """Qhull on Circle (nearly cocircular points) runs far past the default
-    scale's cell timeout (120 s at 100k, measured): not waited for again."""
-    if cell.peer.startswith("qhull") and cell.distribution == "circle" and scale != "paper":
-        return ("known timeout: Qhull needs far more than the cell's 120 s on nearly cocircular "
-                "points")
+    """Qhull's known hang (drivers.qhull: nearly cocircular points) is not
+    waited for below the paper scale."""
+    if cell.peer.startswith("qhull") and scale != "paper":
+        return qhull.known_failure(cell.distribution, cell.n)
     return None
 
 
 def grid(scale, threads):
     return [Cell(peer, dist, n, threads=threads if peer.startswith("lfqt-dc") else 1)
             for n in SIZES[scale] for dist in DISTS for peer in PEERS
-            if not (peer.startswith("qhull") and n > QHULL_MAX[scale])]
+            if _measured(scale, peer, n)]
 
 
 def published_ratios():
