@@ -64,5 +64,5 @@ def build():
 
 
 __all__ = ["Peer", "Result", "Unavailable", "Failure", "Measurement", "measure",
-           "measure_isolated", "REGISTRY", "FAMILIES", "make", "names", "known_failure", "available",
-           "build"]
+           "measure_isolated", "REGISTRY", "FAMILIES", "make", "names", "known_failure",
+           "available", "build"]

@@ -174,7 +174,7 @@ def definition(name):
     """A short hash of everything that defines set ``name``: VERSION, the
     source of its draw function's module and of the drawing and de-duplicating
     code here.  It keys the cache, so that a changed formula never serves a
-    stale file, and results record it (experiments.runner).  Computed once
+    stale file, and results record it (experiments.core.runner).  Computed once
     per process: the sources do not change under a running process."""
     import hashlib
     import inspect

@@ -108,7 +108,7 @@ if len(phases):
 # ## Hardware counters
 #
 # Instructions and cache misses per point of lfqt and CGAL, measured with
-# `perf stat` by `experiments.perf`, where the machine lets perf count.
+# `perf stat` by `experiments.core.perf`, where the machine lets perf count.
 
 # %%
 from experiments.core import perf

@@ -16,7 +16,7 @@
 # %% [markdown]
 # # Scaling: how run time grows with N, per peer and distribution
 #
-# Everything here is read from stored results (`experiments.results`); the
+# Everything here is read from stored results (`experiments.core.results`); the
 # notebook measures nothing.  Set `LFQT_SCALE` (smoke, default, paper) and
 # `LFQT_RESULTS` (the results folder) in the environment, or edit the cell
 # below.  With `LFQT_RUN_MISSING=1` a missing smoke-scale experiment is run

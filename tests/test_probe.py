@@ -1,4 +1,4 @@
-"""experiments.probe: the machine's own thread scaling.  Its numbers are
+"""experiments.core.probe: the machine's own thread scaling.  Its numbers are
 measurements of the machine, so only their form is checked here; the
 kernels are checked for doing the work they claim."""
 import math

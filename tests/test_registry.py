@@ -1,4 +1,4 @@
-"""experiments.registry: one registry that --list and the main job read."""
+"""experiments.core.registry: one registry that --list and the main job read."""
 from experiments import __main__ as cli
 from experiments.core import registry
 

@@ -1,4 +1,4 @@
-"""experiments.results: tidy rows, the typed DataFrame, summaries, and the
+"""experiments.core.results: tidy rows, the typed DataFrame, summaries, and the
 published values."""
 import csv
 

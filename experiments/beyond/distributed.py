@@ -34,7 +34,7 @@ from ..core.machine import machine_info
 SETS = ["uniform", "cluster"]
 SIZES = {"smoke": [100_000], "default": [1_000_000, 10_000_000],
          "paper": [1_000_000, 10_000_000, 100_000_000]}
-SINGLE_BYTES_PER_POINT = 160  # lfqt's peak per point at 10M (experiments.perf), with margin
+SINGLE_BYTES_PER_POINT = 160  # lfqt's peak per point at 10M (experiments.core.perf), with margin
 SEED = 0
 
 
@@ -239,9 +239,9 @@ def _exact_and_small(claim, res):
         small &= peak < claim.limits["peak_bytes"]
         vs = (f", {results.fmt_ratio(g['seconds'].median() / one['seconds'].median())} one "
               "process's time" if len(one) else "")
+        check = "equal to lfqt" if c.get("equal_to_lfqt") else "verified" if ok else "WRONG"
         parts.append(f"{d} {n:,}: {g['seconds'].median():.1f} s{vs}, {c['rounds']} rounds, "
-                     f"peak {peak / 2**30:.1f} GiB per worker, "
-                     f"{'equal to lfqt' if c.get('equal_to_lfqt') else 'verified' if ok else 'WRONG'}")
+                     f"peak {peak / 2**30:.1f} GiB per worker, {check}")
     verdict = HOLDS if exact and small else FAILS
     return claim.row("; ".join(parts), verdict,
                      "equality with lfqt.triangulate where it fits, lfqt.distributed.verify "

@@ -42,7 +42,7 @@ class Experiment:
     # (experiments.distributed runs a whole Dask cluster per cell)
     measure: Callable = None
     # args -> more entries of the metadata sidecar, measured before the grid
-    # (fig6: this machine's own thread scaling, experiments.probe)
+    # (fig6: this machine's own thread scaling, experiments.core.probe)
     metadata: Callable = None
     # the regimes (drivers.isolate.REGIMES) the plot tells apart; --regime
     # takes any of them, and the grid is measured once per regime asked for

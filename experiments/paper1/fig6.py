@@ -12,7 +12,7 @@ The right panel compares parallel efficiency (speedup / threads), the one
 quantity that carries over between a 2-core and a 32-thread machine.
 
 Before the grid, the sidecar records what this machine lets threads gain on
-compute, random reads and dependent reads (experiments.probe); the left
+compute, random reads and dependent reads (experiments.core.probe); the left
 panel draws those ceilings in grey beside lfqt's speedup."""
 import os
 import sys
@@ -78,7 +78,7 @@ def speedups(df):
 
 
 def machine_scaling(args):
-    """Sidecar entry: this machine's own thread scaling (experiments.probe)
+    """Sidecar entry: this machine's own thread scaling (experiments.core.probe)
     at the grid's thread counts, up to its logical CPUs."""
     from ..core.machine import topology
     from ..core.probe import thread_scaling

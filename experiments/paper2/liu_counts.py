@@ -3,7 +3,7 @@ cells, per point, for the Kd-tree, BRIO and Hilbert orders on all seven 3D
 models; through CGAL with counting traits and find_conflicts/insert_in_hole
 (the paper's method) and through lfqt.insert.  CGAL's Hilbert is counted with
 our Hilbert order, since CGAL's range insertion calls its conflict search
-internally.  Sizes per model as experiments.liu.sizes (the paper's six at
+internally.  Sizes per model as experiments.paper2.liu.sizes (the paper's six at
 the paper scale).  The flat-count check prints each count's spread across
 the sizes, ours and the paper's (Kd's counts are flat in the paper, BRIO's
 and Hilbert's grow); flagged published rows are drawn apart."""
