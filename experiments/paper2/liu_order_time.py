@@ -6,6 +6,7 @@ import sys
 import numpy as np
 
 from . import liu
+from .liu_times import kd_ratios
 from ..core import results
 from ..core.claims import FAILS, HOLDS, MISSING, PARTLY, Claim
 from ..core.experiment import Experiment, figure_paths
@@ -55,7 +56,6 @@ def plot(df, out):
 
 
 def _builds_slower_wins_overall(claim, res):
-    from .liu_times import kd_ratios
     s = res.summary("liu_order_time")
     ratios = []
     for (peer, model, n, count), row in s.iterrows():
