@@ -39,6 +39,16 @@ def names(dim=None):
     return [k for k in REGISTRY if make(k).triangulates and (dim is None or dim in make(k).dims)]
 
 
+def known_failure(name, distribution, n):
+    """Why peer ``name`` is known not to finish ``n`` points of
+    ``distribution`` within a cell's limit (its family module's
+    ``known_failure``), or None."""
+    for fam in FAMILIES:
+        if name in fam.PEERS:
+            return fam.known_failure(distribution, n) if hasattr(fam, "known_failure") else None
+    raise ValueError(f"unknown peer {name!r}; known: {', '.join(REGISTRY)}")
+
+
 def available(name):
     """(True, "") or (False, reason)."""
     try:
@@ -54,4 +64,5 @@ def build():
 
 
 __all__ = ["Peer", "Result", "Unavailable", "Failure", "Measurement", "measure",
-           "measure_isolated", "REGISTRY", "FAMILIES", "make", "names", "available", "build"]
+           "measure_isolated", "REGISTRY", "FAMILIES", "make", "names", "known_failure",
+           "available", "build"]

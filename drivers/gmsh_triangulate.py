@@ -41,4 +41,13 @@ class GmshPeer(PipPeer):
         return Result(tri)
 
 
+def known_failure(distribution, n):
+    """Why gmsh is known not to finish ``n`` points of ``distribution``
+    within a cell's limit, or None: on the LiDAR
+    model's xy from 100k points it found no result within 120 s."""
+    if distribution == "lidar-xy" and n >= 100_000:
+        return "known hang: no result within 120 s at the default scale"
+    return None
+
+
 PEERS = {"gmsh": GmshPeer}

@@ -3,15 +3,15 @@ papers, with the command that regenerates it, and the benchmarks."""
 import argparse
 import sys
 
-from .registry import PAPERS, listing
+from .core.registry import listing, papers
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m experiments", description=__doc__)
     ap.add_argument("--list", action="store_true", help="list the experiments (the default)")
     ap.parse_args(argv)
-    for key, paper in PAPERS.items():
-        print(f"# {key}: {paper}")
+    for title in papers().values():
+        print(f"# {title}")
     print(listing())
     return 0
 

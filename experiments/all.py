@@ -9,9 +9,9 @@ import argparse
 import sys
 import time
 
-from . import report
-from .experiment import SCALES, results_root
-from .registry import main_job
+from .core import report
+from .core.experiment import SCALES, results_root
+from .core.registry import main_job
 
 
 def main(argv=None):

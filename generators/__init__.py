@@ -31,7 +31,8 @@ class Distribution:
     source: str
     duplicates: str = "none"
     default_n: int = 100_000
-    # what the set is used for: "paper1" (paper 1's five 2D sets), "paper2",
+    # what the set is used for: "paper1" (paper 1's five 2D sets, in the order the
+    # figures draw them: experiments read names(tag="paper1"), never a list of their own), "paper2",
     # "hard" (exactness, experiments.field), "lidar", "2.5d" (terrain: z over xy)
     tags: tuple = ()
     # the dtypes the set means something in: 1e-300 or 1e300 are not float32s
@@ -173,7 +174,7 @@ def definition(name):
     """A short hash of everything that defines set ``name``: VERSION, the
     source of its draw function's module and of the drawing and de-duplicating
     code here.  It keys the cache, so that a changed formula never serves a
-    stale file, and results record it (experiments.runner).  Computed once
+    stale file, and results record it (experiments.core.runner).  Computed once
     per process: the sources do not change under a running process."""
     import hashlib
     import inspect

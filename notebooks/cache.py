@@ -34,9 +34,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from experiments import results
-from experiments.registry import for_notebook
-from experiments.fig4 import WORKING_SET_BYTES_PER_POINT
+from experiments.core import results
+from experiments.core.registry import for_notebook
+from experiments.paper1.fig4 import WORKING_SET_BYTES_PER_POINT
 
 SCALE, RESULTS, stored = for_notebook(ROOT / "results")
 df = stored("fig4")
@@ -108,10 +108,10 @@ if len(phases):
 # ## Hardware counters
 #
 # Instructions and cache misses per point of lfqt and CGAL, measured with
-# `perf stat` by `experiments.perf`, where the machine lets perf count.
+# `perf stat` by `experiments.core.perf`, where the machine lets perf count.
 
 # %%
-from experiments import perf
+from experiments.core import perf
 
 can_count, why = perf.available()
 if not can_count:

@@ -16,7 +16,7 @@
 # %% [markdown]
 # # Scaling: how run time grows with N, per peer and distribution
 #
-# Everything here is read from stored results (`experiments.results`); the
+# Everything here is read from stored results (`experiments.core.results`); the
 # notebook measures nothing.  Set `LFQT_SCALE` (smoke, default, paper) and
 # `LFQT_RESULTS` (the results folder) in the environment, or edit the cell
 # below.  With `LFQT_RUN_MISSING=1` a missing smoke-scale experiment is run
@@ -35,8 +35,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from experiments import results
-from experiments.registry import for_notebook
+from experiments.core import results
+from experiments.core.registry import for_notebook
 
 SCALE, RESULTS, stored = for_notebook(ROOT / "results")
 print(f"results: {RESULTS} (scale {SCALE})")
@@ -113,7 +113,7 @@ else:
 # %%
 f6 = stored("fig6")
 if f6 is not None:
-    from experiments.fig6 import speedups
+    from experiments.paper1.fig6 import speedups
     rows = [(peer, d, n, t, sp) for (peer, d, n), s in speedups(f6).items() for t, sp, _ in s]
     table = pd.DataFrame(rows, columns=["peer", "distribution", "n", "threads", "speedup"])
     print(table.pivot_table(index=["peer", "distribution"], columns="threads",

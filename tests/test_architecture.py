@@ -69,3 +69,49 @@ def test_no_library_function_is_longer_than_150_lines():
             for p in (ROOT / "lfqt").rglob("*.py") for node in ast.walk(ast.parse(p.read_text()))
             if isinstance(node, ast.FunctionDef) and node.end_lineno - node.lineno >= 150]
     assert not long
+
+
+def _harness_graph():
+    return {m: deps for m, deps in _graph().items() if m.startswith("experiments")}
+
+
+def _section(module):
+    """The section an experiments module sits in, or None for the machinery
+    (experiments.core, and the package's own commands)."""
+    import experiments
+    parts = module.split(".")
+    return parts[1] if len(parts) > 2 and parts[1] in experiments.SECTIONS else None
+
+
+def test_the_harness_machinery_never_imports_an_experiment():
+    """experiments.core (runner, results, registry, report, ...) and the
+    package's commands find the experiments through the registry alone: no
+    import names an experiment module, so the report renders what each
+    experiment declares and imports none of their internals."""
+    graph = _harness_graph()
+    machinery = [m for m in graph if _section(m) is None]
+    assert "experiments.core.report" in machinery and "experiments.core.registry" in machinery
+    bad = {m: sorted(d for d in graph[m] if _section(d)) for m in machinery}
+    assert not {m: d for m, d in bad.items() if d}
+
+
+def test_experiments_import_only_the_machinery_and_their_own_section():
+    graph = _harness_graph()
+    bad = {m: sorted(d for d in deps if _section(d) not in (None, _section(m)))
+           for m, deps in graph.items() if _section(m)}
+    assert not {m: d for m, d in bad.items() if d}
+
+
+def test_the_report_holds_no_threshold():
+    """Thresholds are named data beside each claim's rule, in its
+    experiment's module: the report's source compares nothing with a
+    number and holds no fraction."""
+    tree = ast.parse((ROOT / "experiments" / "core" / "report.py").read_text())
+
+    def number(node):
+        return (isinstance(node, ast.Constant) and isinstance(node.value, (int, float))
+                and not isinstance(node.value, bool))
+    fractions = [n.value for n in ast.walk(tree) if number(n) and isinstance(n.value, float)]
+    compared = [ast.unparse(n) for n in ast.walk(tree) if isinstance(n, ast.Compare)
+                and any(number(x) for x in [n.left, *n.comparators])]
+    assert not fractions and not compared

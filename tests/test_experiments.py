@@ -5,8 +5,10 @@ import os
 import pytest
 
 from drivers.surface import NOT_SCIPY, OPERATIONS
-from experiments import bench_dc, machine, results, runner, scipy_surface
-from experiments.runner import Cell
+from experiments.bench import bench_dc
+from experiments.beyond import scipy_surface
+from experiments.core import machine, results, runner
+from experiments.core.runner import Cell
 
 
 def load_rows(out_dir):
@@ -170,12 +172,12 @@ def test_main_job_at_smoke_scale(smoke_results):
     assert "Kd is fastest on every model" in report
     assert "radix" not in report or "thread-ms" in report
     # --plot-only redraws from stored results without measuring
-    from experiments import fig3
+    from experiments.paper1 import fig3
     assert fig3.main(["--scale", "smoke", "--out", str(smoke.parent), "--plot-only"]) == 0
 
 
 def test_bench_insert_smoke_measures_lfqt_and_cgal_on_the_same_input(tmp_path, capsys):
-    from experiments import bench_insert
+    from experiments.bench import bench_insert
     assert bench_insert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
                               "--repeats", "1", "--rounds", "2"]) == 0
     rows = load_rows(tmp_path / "smoke" / "bench_insert")
@@ -203,7 +205,7 @@ def test_rounds_repeat_timed_cells_but_not_deterministic_counts(tmp_path):
 
 
 def test_scales_never_overwrite_each_other(tmp_path):
-    from experiments import fig4
+    from experiments.paper1 import fig4
     args = ["--out", str(tmp_path), "--quiet", "--repeats", "1", "--dists", "uniform"]
     assert fig4.main(["--scale", "smoke", "--sizes", "1000"] + args) == 0
     assert fig4.main(["--scale", "default", "--sizes", "3000"] + args) == 0
@@ -221,13 +223,32 @@ def test_known_failures_are_recorded_with_their_reason_not_waited_for(tmp_path):
                                 known_failure=known))
     status = {r["peer"]: (r["status"], r["detail"]) for r in rows}
     assert status["qhull-2d"] == ("skipped", "known timeout") and status["lfqt-dc"][0] == "ok"
-    from experiments import fig3
+    from experiments.paper1 import fig3
     assert fig3.known_failure("default", Cell("qhull-2d", "circle", 100_000))
     assert fig3.known_failure("paper", Cell("qhull-2d", "circle", 100_000)) is None
 
 
+def test_a_peers_caps_and_known_failures_come_from_its_driver_module():
+    """drivers.qhull holds Qhull's size caps and its known hang; fig3,
+    bench_dc and field read them there."""
+    import drivers
+    from drivers import qhull
+    from experiments.bench import bench_dc
+    from experiments.paper1 import fig3
+    assert drivers.known_failure("qhull-2d", "circle", qhull.COCIRCULAR_HANG_N)
+    assert drivers.known_failure("qhull-2d", "circle", qhull.COCIRCULAR_HANG_N - 1) is None
+    assert drivers.known_failure("startinpy", "circle", 100_000)
+    assert drivers.known_failure("lfqt-dc", "circle", 10 ** 8) is None  # no known failure
+    with pytest.raises(ValueError, match="unknown peer"):
+        drivers.known_failure("no-such-peer", "circle", 1)
+    for exp in (fig3, bench_dc):
+        for scale, cap in qhull.MAX_N.items():
+            sizes = {c.n for c in exp.grid(scale, 1) if c.peer == "qhull-2d"}
+            assert all(n <= cap for n in sizes), (exp.__name__, scale)
+
+
 def test_fig5_phases_add_up_and_the_top_appears_with_threads(tmp_path, capsys):
-    from experiments import fig5
+    from experiments.paper1 import fig5
     assert fig5.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
                       "--dists", "uniform,grid", "--threads", "2"]) == 0
     rows = load_rows(tmp_path / "smoke" / "fig5")
@@ -242,7 +263,7 @@ def test_fig5_phases_add_up_and_the_top_appears_with_threads(tmp_path, capsys):
 
 
 def test_table1_counts_each_configuration_and_prints_the_paper_beside(tmp_path, capsys):
-    from experiments import table1
+    from experiments.paper1 import table1
     assert table1.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
                         "--dists", "uniform,grid"]) == 0
     rows = load_rows(tmp_path / "smoke" / "table1")
@@ -260,7 +281,7 @@ def test_table1_counts_each_configuration_and_prints_the_paper_beside(tmp_path, 
 
 
 def test_fig6_takes_any_thread_counts_and_records_the_topology(tmp_path, capsys):
-    from experiments import fig6
+    from experiments.paper1 import fig6
     assert fig6.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
                       "--thread-counts", "1,3", "--dists", "uniform,cube"]) == 0
     rows = load_rows(tmp_path / "smoke" / "fig6")
@@ -277,7 +298,7 @@ def test_fig6_takes_any_thread_counts_and_records_the_topology(tmp_path, capsys)
 
 
 def test_fig7_radix_peer_sorts_and_the_largest_size_fits_memory():
-    from experiments import fig7
+    from experiments.paper1 import fig7
     assert fig7.largest_size(24 * 2 ** 30) == 40_000_000
     assert fig7.largest_size(2 ** 40) == 500_000_000  # never above the paper's 500M
     import drivers
@@ -288,7 +309,7 @@ def test_fig7_radix_peer_sorts_and_the_largest_size_fits_memory():
 
 
 def test_liu_practical_records_every_order_and_its_memory(tmp_path, capsys):
-    from experiments import liu_practical
+    from experiments.paper2 import liu_practical
     assert liu_practical.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
                                "--dists", "statue-standin,refined-cube-standin"]) == 0
     rows = load_rows(tmp_path / "smoke" / "liu_practical")
@@ -303,7 +324,7 @@ def test_liu_practical_records_every_order_and_its_memory(tmp_path, capsys):
 
 
 def test_liu_hilbert_compares_cgal_sorts_with_the_papers_rows(tmp_path, capsys):
-    from experiments import liu_hilbert
+    from experiments.paper2 import liu_hilbert
     assert liu_hilbert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
                              "--dists", "cube,cylinder"]) == 0
     df = results.load(tmp_path / "smoke" / "liu_hilbert")
@@ -318,7 +339,7 @@ def test_liu_hilbert_compares_cgal_sorts_with_the_papers_rows(tmp_path, capsys):
 
 def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
     import pytest
-    from experiments import liu_times
+    from experiments.paper2 import liu_times
     with pytest.raises(SystemExit, match="not in this experiment"):
         liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--dists", "uniform"])
     with pytest.raises(SystemExit, match="not in this experiment"):
@@ -326,7 +347,7 @@ def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
 
 
 def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(tmp_path, capsys):
-    from experiments import hybrid
+    from experiments.beyond import hybrid
     assert hybrid.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
                         "--dists", "uniform,grid"]) == 0
     df = results.load(tmp_path / "smoke" / "hybrid")
@@ -343,7 +364,7 @@ def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(tmp_path, capsys):
 def test_distributed_measures_checks_and_resumes(tmp_path, capsys):
     import pytest
     pytest.importorskip("dask.distributed")
-    from experiments import distributed
+    from experiments.beyond import distributed
     args = ["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--dists", "uniform"]
     assert distributed.EXPERIMENT.main(args) == 0
     out = tmp_path / "smoke" / "distributed"
@@ -370,7 +391,7 @@ def test_line_end_labels_keep_apart_and_stay_inside_the_axes():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from experiments.experiment import label_ends
+    from experiments.core.experiment import label_ends
     fig, ax = plt.subplots()
     ax.set(xscale="log", yscale="log", xlim=(1e5, 1e6), ylim=(1, 100))
     ends = [(1e6, 3.0, "a 3.00x", "red"), (1e6, 3.0, "b 3.00x", "blue"),

@@ -9,8 +9,8 @@ import pandas as pd
 import pytest
 
 import generators
-from experiments import field
-from experiments.registry import experiments, listing
+from experiments.beyond import field
+from experiments.core.registry import experiments, listing
 
 
 def test_the_grid_times_every_peer_on_paper_1s_sets_and_the_lidar_model():
@@ -124,7 +124,7 @@ def test_bad_input_is_a_clear_error(tmp_path, args, message):
 
 
 def test_an_experiment_that_draws_its_own_sets_refuses_input(tmp_path):
-    from experiments import distributed
+    from experiments.beyond import distributed
     with pytest.raises(SystemExit, match="not supported"):
         distributed.EXPERIMENT.main(["--scale", "smoke", "--input", str(tmp_path / "x.npy"),
                                      "--out", str(tmp_path)])

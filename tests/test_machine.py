@@ -1,7 +1,7 @@
 import re
 from pathlib import Path
 
-from experiments import machine
+from experiments.core import machine
 
 
 def test_transparent_hugepages_reads_the_selected_modes(tmp_path):

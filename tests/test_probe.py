@@ -1,4 +1,4 @@
-"""experiments.probe: the machine's own thread scaling.  Its numbers are
+"""experiments.core.probe: the machine's own thread scaling.  Its numbers are
 measurements of the machine, so only their form is checked here; the
 kernels are checked for doing the work they claim."""
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from experiments import probe
+from experiments.core import probe
 
 
 def test_the_chase_buffer_is_one_cycle_through_every_entry():

@@ -1,9 +1,14 @@
-"""experiments.report: the verdicts on stored results written for the test,
-so that each rule is seen to pass, fall short and go missing."""
+"""experiments.core.report and the claims the experiments declare: the
+verdicts on stored results written for the test, so that each rule is seen
+to pass, fall short and go missing."""
 import pytest
 
-from experiments import report, results
-from experiments.runner import Cell
+from experiments.beyond import distributed
+from experiments.core import registry, report, results
+from experiments.core.claims import (FAILS, HOLDS, MISSING, PARTLY, UNTESTABLE, VERDICTS,
+                                     Results, judge)
+from experiments.core.runner import Cell
+from experiments.paper1 import fig3, fig4, fig6, table1
 
 DISTS = ("uniform", "grid", "cluster", "circle", "spiral")
 
@@ -31,27 +36,31 @@ def _fig3(lfqt=1.0, cgal=3.0, triangle=3.5, triangle_growth=1.4):
 
 
 def _rows(root):
-    return {r.claim: r for r in report.fig3_ratios(report.Results(root))}
+    return {r.claim: r for r in judge(fig3.EXPERIMENT, Results(root))}
 
 
 def test_fig3_claims_hold_fall_short_and_name_the_fastest_variant(tmp_path):
     _store(tmp_path, "fig3", _fig3())
     rows = list(_rows(tmp_path).values())
-    assert [r.verdict for r in rows] == [report.HOLDS] * 3
+    assert [r.verdict for r in rows] == [HOLDS] * 3
     assert "cgal-dt2-indexed" in rows[0].ours and "3.00x" in rows[0].ours
     _store(tmp_path, "fig3", _fig3(cgal=1.5, triangle_growth=1.0))
     rows = list(_rows(tmp_path).values())
-    assert rows[0].verdict == report.PARTLY and "short of the stated ratio" in rows[0].why
-    assert rows[2].verdict == report.FAILS  # Triangle's time per point no longer grows
+    assert rows[0].verdict == PARTLY and "short of the stated ratio" in rows[0].why
+    assert rows[2].verdict == FAILS  # Triangle's time per point no longer grows
     _store(tmp_path, "fig3", _fig3(cgal=0.5))
-    assert list(_rows(tmp_path).values())[0].verdict == report.FAILS
+    assert list(_rows(tmp_path).values())[0].verdict == FAILS
 
 
 def test_missing_results_name_the_command(tmp_path):
-    for fn in report.PAPER1 + report.PAPER2 + report.BEYOND:
-        for row in fn(report.Results(tmp_path)):
-            assert row.verdict == report.MISSING
-            assert row.why.startswith("run `python -m experiments.")
+    judged = [e for e in registry.experiments().values() if e.claims]
+    assert len(judged) >= 14
+    for e in judged:
+        rows = judge(e, Results(tmp_path))
+        assert len(rows) == len(e.claims)
+        for row in rows:
+            assert row.verdict == MISSING and row.source == e.name
+            assert row.why == f"run `python -m experiments.{e.name}`"
 
 
 def test_the_report_has_every_paper1_claim_and_a_verdict_each(tmp_path):
@@ -63,30 +72,29 @@ def test_the_report_has_every_paper1_claim_and_a_verdict_each(tmp_path):
              line[2].isdigit()]
     assert sum(line in paper1 for line in table) == 13
     assert sum(line in paper2 for line in table) >= 7
-    verdicts = {report.HOLDS, report.PARTLY, report.FAILS, report.UNTESTABLE, report.MISSING}
-    assert all(any(f"**{v}**" in line for v in verdicts) for line in table)
+    assert all(any(f"**{v}**" in line for v in VERDICTS) for line in table)
 
 
-@pytest.mark.parametrize("ratio,verdict", [(1.004, report.UNTESTABLE), (0.9, report.FAILS)])
+@pytest.mark.parametrize("ratio,verdict", [(1.004, UNTESTABLE), (0.9, FAILS)])
 def test_level_bound_speedup_below_the_noise_is_not_testable(tmp_path, ratio, verdict):
     times = {("lfqt-dc", "cluster", 1000): 1.0, ("lfqt-dc-constant", "cluster", 1000): ratio}
     _store(tmp_path, "table1", times)
-    rows = report.table1_bounds(report.Results(tmp_path))
+    rows = judge(table1.EXPERIMENT, Results(tmp_path))
     assert rows[1].verdict == verdict
 
 
 def test_grid_rate_needs_grid_and_another_set_at_the_same_size(tmp_path):
     times = {("lfqt-dc", "uniform", 1_000_000): 0.3}
     _store(tmp_path, "fig4", times)
-    row = report.fig4_rates(report.Results(tmp_path))[1]
-    assert row.verdict == report.MISSING  # one set cannot rank the sets
+    row = judge(fig4.EXPERIMENT, Results(tmp_path))[1]
+    assert row.verdict == MISSING  # one set cannot rank the sets
     times.update({("lfqt-dc", "grid", 1_000_000): 0.2, ("lfqt-dc", "uniform", 100_000): 0.02})
     _store(tmp_path, "fig4", times)
-    row = report.fig4_rates(report.Results(tmp_path))[1]
-    assert row.verdict == report.HOLDS and "1,000,000: grid" in row.ours
+    row = judge(fig4.EXPERIMENT, Results(tmp_path))[1]
+    assert row.verdict == HOLDS and "1,000,000: grid" in row.ours
     times[("lfqt-dc", "grid", 1_000_000)] = 0.5
     _store(tmp_path, "fig4", times)
-    assert report.fig4_rates(report.Results(tmp_path))[1].verdict == report.FAILS
+    assert judge(fig4.EXPERIMENT, Results(tmp_path))[1].verdict == FAILS
 
 
 def _distributed(root, verified=True, equal=True, peak=4 * 2**30):
@@ -102,25 +110,25 @@ def _distributed(root, verified=True, equal=True, peak=4 * 2**30):
                          counts="{}"))
     (root / "distributed").mkdir(parents=True, exist_ok=True)
     results.write(root / "distributed", rows)
-    return report.distributed_answer(report.Results(root))[0]
+    return judge(distributed.EXPERIMENT, Results(root))[0]
 
 
 def test_distributed_row_needs_exact_results_and_the_memory_bound(tmp_path):
     row = _distributed(tmp_path)
-    assert row.verdict == report.HOLDS and "4.00x one process's time" in row.ours
-    assert _distributed(tmp_path, equal=False).verdict == report.FAILS
-    assert _distributed(tmp_path, verified=False).verdict == report.FAILS
-    assert _distributed(tmp_path, peak=9 * 2**30).verdict == report.FAILS
+    assert row.verdict == HOLDS and "4.00x one process's time" in row.ours
+    assert _distributed(tmp_path, equal=False).verdict == FAILS
+    assert _distributed(tmp_path, verified=False).verdict == FAILS
+    assert _distributed(tmp_path, peak=9 * 2**30).verdict == FAILS
 
 
 def test_flat_rate_past_the_last_cache_counts_the_orders_of_magnitude(tmp_path):
     # no cache sizes recorded: the last level is L2 of 32 MiB, passed from 1,048,577 points
     sizes = (1_000, 2_000_000, 4_000_000)
     _store(tmp_path, "fig4", {("lfqt-dc", "uniform", n): n * 1e-7 for n in sizes})
-    row = report.fig4_rates(report.Results(tmp_path))[0]
-    assert row.verdict == report.PARTLY and "3.6 orders of magnitude" in row.ours
+    row = judge(fig4.EXPERIMENT, Results(tmp_path))[0]
+    assert row.verdict == PARTLY and "3.6 orders of magnitude" in row.ours
     _store(tmp_path, "fig4", {("lfqt-dc", "uniform", n): n * 1e-7 * (n / 1e6) for n in sizes})
-    assert report.fig4_rates(report.Results(tmp_path))[0].verdict == report.FAILS
+    assert judge(fig4.EXPERIMENT, Results(tmp_path))[0].verdict == FAILS
 
 
 def test_fig6_row_gives_the_machines_own_ceiling_when_recorded(tmp_path):
@@ -136,14 +144,14 @@ def test_fig6_row_gives_the_machines_own_ceiling_when_recorded(tmp_path):
     results.write(tmp_path / "fig6", rows)
     meta = {"physical_cores": 2, "logical_cpus": 2}
     (tmp_path / "fig6" / "metadata.json").write_text(json.dumps(meta))
-    row, = report.fig6_scaling(report.Results(tmp_path))
+    row, = judge(fig6.EXPERIMENT, Results(tmp_path))
     assert "uniform 1.80x" in row.ours and "ceiling" not in row.ours
     meta["thread_scaling"] = {"compute": {"1": 1.0, "2": 1.97},
                               "random reads": {"1": 1.0, "2": 1.21}}
     (tmp_path / "fig6" / "metadata.json").write_text(json.dumps(meta))
-    row, = report.fig6_scaling(report.Results(tmp_path))
+    row, = judge(fig6.EXPERIMENT, Results(tmp_path))
     assert row.ours.endswith("own ceiling at 2 threads: compute 1.97x, random reads 1.21x")
-    assert row.verdict == report.UNTESTABLE
+    assert row.verdict == UNTESTABLE
 
 
 def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
@@ -152,17 +160,17 @@ def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
     meta = {"cpu": "Some CPU", "physical_cores": 2, "logical_cpus": 2, "memory_bytes": 2**34,
             "commit": "0123456789abcdef", "free_page_reporting_order": None}
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
-    line = report._machine(report.Results(tmp_path))
+    line = report._machine(Results(tmp_path))
     assert line.startswith("Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
     meta["free_page_reporting_order"] = 9
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
     assert "16 GiB; a VM that hands freed memory back to its host (free page reporting, " \
-           "order 9)" in report._machine(report.Results(tmp_path))
+           "order 9)" in report._machine(Results(tmp_path))
     meta["host_takes_free_pages"] = False  # a kernel that could report, and no balloon that does
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
-    assert report._machine(report.Results(tmp_path)).startswith(
+    assert report._machine(Results(tmp_path)).startswith(
         "Some CPU, 2 cores (2 logical), 16 GiB; commit 0123456789")
     meta.update(host_takes_free_pages=True, free_page_reporting_order=None)  # a balloon only
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
-    line = report._machine(report.Results(tmp_path))
+    line = report._machine(Results(tmp_path))
     assert "to its host (free page reporting): fresh" in line and "None" not in line

@@ -1,12 +1,12 @@
-"""experiments.results: tidy rows, the typed DataFrame, summaries, and the
+"""experiments.core.results: tidy rows, the typed DataFrame, summaries, and the
 published values."""
 import csv
 
 import numpy as np
 import pytest
 
-from experiments import results
-from experiments.runner import Cell
+from experiments.core import results
+from experiments.core.runner import Cell
 
 
 def test_every_published_csv_parses_the_same_with_pandas_and_csv():

@@ -17,7 +17,7 @@ import numpy as np
 import generators
 import lfqt
 
-from .experiment import Experiment, figure_paths
+from ..core.experiment import Experiment, figure_paths
 
 SETS = ["uniform", "spiral"]
 SIZES = {"smoke": 120, "default": 400, "paper": 1000}

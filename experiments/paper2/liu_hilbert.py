@@ -10,10 +10,12 @@ import sys
 
 import numpy as np
 
-from . import liu, results
-from .experiment import Experiment, figure_paths
+from . import liu
+from ..core import results
+from ..core.claims import MISSING, PARTLY, Claim
+from ..core.experiment import Experiment, figure_paths
 from .liu_counts import per_point
-from .runner import Cell
+from ..core.runner import Cell
 
 CANDIDATES = {"lfqt-insert-hilbert": "our Hilbert, lfqt", "cgal-dt3-hilbert": "our Hilbert, CGAL",
               "cgal-dt3-hilbert-sort": "CGAL hilbert_sort",
@@ -109,9 +111,25 @@ def plot(df, out):
     return figure_paths(fig, out, "liu_hilbert")
 
 
+def _which_order(claim, res):
+    best = best_matches(res.frame("liu_hilbert"))
+    text = "; ".join(f"nearest to the paper's {o}: {CANDIDATES[p]} ({v:.0%} mean distance)"
+                     for o, (p, v) in best.items())
+    return claim.row(text, PARTLY if best else MISSING,
+                     "counts per point against the paper's rows at the nearest size; a match is "
+                     "a reading, not a proof")
+
+
+CLAIMS = (
+    # a question rather than a claim: at best a reading (partly), never proven
+    Claim("which order was the paper's Hilbert", "'Hilbert' and 'BRIO' orders in CGAL 4.0 "
+          "(Tables 8-14)", _which_order),
+)
+
+
 EXPERIMENT = Experiment("liu_hilbert", "the Hilbert question: our Hilbert and BRIO orders and "
                         "CGAL's hilbert_sort and spatial_sort against paper 2's counts",
-                        grid, plot, repeats=1)
+                        grid, plot, repeats=1, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@ its published values read from results/published/liu2013.csv (each with its
 flag: the Table 13 row that repeats another, the two misprinted sizes)."""
 from functools import lru_cache
 
-from . import results
+from ..core import results
 
 # model: (its time table, its count table); the paper's order of models
 MODELS = {"cube": (1, 8), "plane": (2, 9), "paraboloid": (3, 10), "spiral3d": (4, 11),

@@ -12,18 +12,22 @@ The right panel compares parallel efficiency (speedup / threads), the one
 quantity that carries over between a 2-core and a 32-thread machine.
 
 Before the grid, the sidecar records what this machine lets threads gain on
-compute, random reads and dependent reads (experiments.probe); the left
+compute, random reads and dependent reads (experiments.core.probe); the left
 panel draws those ceilings in grey beside lfqt's speedup."""
 import os
 import sys
 
 import numpy as np
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+import generators
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+from ..core import results
+from ..core.claims import UNTESTABLE, AtLeast, Claim
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
+
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": 100_000, "default": 1_000_000, "paper": 10_000_000}
 SIZES_3D = {"smoke": 30_000, "default": 300_000, "paper": 1_000_000}
 PUBLISHED = [(16, 13.0, 14.0, "16 cores: 13-14x"), (32, 17.0, 17.0, "16c/32t: ~17x")]
@@ -34,7 +38,7 @@ COLORS = dict(uniform="#1b6ca8", grid="#3aa655", cluster="#d1495b", circle="#eda
 def default_counts():
     """Powers of two up to the logical CPUs, plus the physical core count
     and the logical CPU count."""
-    from .machine import topology
+    from ..core.machine import topology
     top = topology()
     logical = top["logical_cpus"] or os.cpu_count() or 1
     counts = {1, logical, top["physical_cores"] or logical}
@@ -74,10 +78,10 @@ def speedups(df):
 
 
 def machine_scaling(args):
-    """Sidecar entry: this machine's own thread scaling (experiments.probe)
+    """Sidecar entry: this machine's own thread scaling (experiments.core.probe)
     at the grid's thread counts, up to its logical CPUs."""
-    from .machine import topology
-    from .probe import thread_scaling
+    from ..core.machine import topology
+    from ..core.probe import thread_scaling
     logical = topology()["logical_cpus"] or os.cpu_count() or 1
     counts = [t for t in _counts(args.thread_counts) if t <= logical]
     return {"thread_scaling": thread_scaling(counts)}
@@ -141,6 +145,38 @@ def plot(df, out):
     return figure_paths(fig, out, "fig6")
 
 
+def _scaling(claim, res):
+    df = res.frame("fig6")
+    series = speedups(df)
+    meta = res.meta("fig6")
+    physical = meta.get("physical_cores") or 1
+    cores = claim.limits["cores"]
+    ours = {d: dict((t, sp) for t, sp, _ in s) for (p, d, n), s in series.items()
+            if p == "lfqt-dc"}
+    at = min(cores, physical)
+    text = ", ".join(f"{d} {v.get(at, float('nan')):.2f}x" for d, v in ours.items())
+    probes = ", ".join(f"{name} {by_t[at]:.2f}x" for name, by_t in
+                       ceilings(meta).items() if at in by_t)
+    ceiling = f"; this machine's own ceiling at {at} threads: {probes}" if probes else ""
+    if physical >= cores:
+        worst = min(v.get(cores, 0) for v in ours.values())
+        return claim.row(f"{cores} threads: {text}{ceiling}", claim.rule(worst),
+                         "speedup over one thread, same machine")
+    eff = np.median([v.get(at, np.nan) / at for v in ours.values()])
+    cg = [dict((t, sp) for t, sp, _ in s).get(at) for (p, _, _), s in series.items()
+          if p == "cgal-dt3-parallel"]
+    return claim.row(f"{at} threads: {text}; median efficiency {eff:.0%} (paper 81-88% at 16)"
+                     + (f"; cgal-dt3-parallel {cg[0]:.2f}x" if cg and cg[0] else "") + ceiling,
+                     UNTESTABLE, f"{physical} physical cores here")
+
+
+CLAIMS = (
+    Claim("13 to 14x on 16 cores", "13-14x on 16 cores, ~17x on 16c/32t (Fig. 6)", _scaling,
+          rule=AtLeast(holds=13, partly=8),  # the worst set's speedup at 16 threads
+          limits={"cores": 16}),  # judged on a machine with this many physical cores
+)
+
+
 EXPERIMENT = Experiment(
     "fig6", "speedup over one thread on the five distributions, CGAL's parallel 3D beside",
     grid, plot, reproduces=(("Paper 1", "Fig. 6"),), main_job=True,
@@ -148,7 +184,7 @@ EXPERIMENT = Experiment(
                                       help="comma-separated thread counts (default: powers of "
                                            "two up to the logical CPUs, the physical core "
                                            "count and the logical CPU count)")),),
-    grid_options=("thread_counts",), metadata=machine_scaling)
+    grid_options=("thread_counts",), metadata=machine_scaling, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

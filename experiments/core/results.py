@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 
 NOMINAL_HZ = 3.0e9  # paper 1 normalises cycle counts to 3 GHz
-PUBLISHED = Path(__file__).resolve().parent.parent / "results" / "published"
+PUBLISHED = Path(__file__).resolve().parents[2] / "results" / "published"
 FIELDS = ["experiment", "peer", "distribution", "n", "dtype", "threads", "seed", "count",
           "round", "regime", "repeat", "status", "detail", "seconds", "cycles", "seconds_at_3ghz",
           "mpts_per_s", "peak_bytes", "bytes_per_point", "version", "counts", "check"]

@@ -33,11 +33,12 @@ import sys
 import tempfile
 from pathlib import Path
 
+from drivers import qhull
 from drivers.isolate import REGIMES
 
-from . import results
-from .experiment import Experiment, figure_paths, label_ends
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths, label_ends
+from ..core.runner import Cell
 
 SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
          "paper": [100_000, 1_000_000, 3_000_000, 10_000_000]}
@@ -46,10 +47,6 @@ DISTS = {"smoke": ["uniform"], "default": ["uniform", "grid", "cluster", "spiral
          "paper": ["uniform", "grid", "cluster", "spiral"]}
 PEERS = ["lfqt-dc", "lfqt-dc-alternating", "triangle-native", "triangle", "cgal-dt2",
          "cgal-dt2-indexed", "qhull-2d"]
-# Qhull, 30-40x slower than lfqt and no target of ours, needs ~14 s per run
-# at 1M and times out on grid: at 1M it took two thirds of the default
-# bench's 25 minutes, so the default grid measures it at 100k only.
-QHULL_MAX = {"smoke": 1_000_000, "default": 100_000, "paper": 1_000_000}
 REFERENCE = "lfqt-dc"
 REGIME_TEXT = {"loop": "a warm process, each result dropped",
                "kept": "a warm process, every result kept alive",
@@ -88,7 +85,7 @@ def verdict(family, dist, n, ratio):
 def grid(scale, threads):
     return [Cell(peer, dist, n, threads=threads if peer == REFERENCE else 1)
             for dist in DISTS[scale] for n in SIZES[scale] for peer in PEERS
-            if not (peer.startswith("qhull") and n > QHULL_MAX[scale])]
+            if not peer.startswith("qhull") or qhull.measured_at(scale, n)]
 
 
 def compile_seconds():

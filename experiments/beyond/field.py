@@ -27,12 +27,14 @@ import sys
 
 import numpy as np
 
+import drivers
 import generators
+from drivers import qhull
 from drivers.exactness import describe
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 REFERENCE = "lfqt-dc"
 PEERS = [REFERENCE, "cgal-dt2", "cgal-dt2-indexed", "triangle-native", "triangle",
@@ -45,9 +47,6 @@ SIZES = {"smoke": [20_000], "default": [100_000, 1_000_000],
 # the default scale keeps to a few minutes on 2 cores: 1M on these sets only
 DEFAULT_1M_SETS = ("uniform", "lidar-xy")
 HARD_N = {"smoke": 500, "default": 2_000, "paper": 10_000}
-# Qhull takes ~11 s per run at 1M (issue 53) and far longer on cocircular
-# points: measured at 100k (and 1M at the paper scale) only
-QHULL_MAX = {"smoke": 20_000, "default": 100_000, "paper": 1_000_000}
 # how a failed cell reads in the exactness table
 FAILED = {"error": "refused", "crash": "crashed", "timeout": "hung", "memory": "out of memory",
           "unavailable": "unavailable", "skipped": "skipped"}
@@ -55,10 +54,6 @@ COLORS = {"exact": "#3aa655", "wrong": "#d1495b", "failed": "#9e9e9e"}
 # per-cell limits: a peer that needs more is recorded as hung on that cell
 # (the default scale keeps to a few minutes; a hang there costs its limit)
 TIMEOUTS = {"smoke": 30.0, "default": 120.0, "paper": 600.0}
-# cells measured to hang (no result within the default scale's limit, on
-# this machine): not waited for again below the paper scale
-KNOWN_HANGS = {("startinpy", "circle"): 100_000, ("gmsh", "lidar-xy"): 100_000,
-               ("cdt", "huge"): 0}
 # published figures to read beside ours (issue 53 cites them)
 PUBLISHED = ["Delaunator's README: 1M points in 1.35 s (a 2017 laptop)",
              "delaunator-rs: 1M in 0.90 s, 10M in 11.9 s",
@@ -66,7 +61,7 @@ PUBLISHED = ["Delaunator's README: 1M points in 1.35 s (a 2017 laptop)",
 
 
 def _timed(scale, dist, n, peer):
-    if peer == "qhull-2d" and n > QHULL_MAX[scale]:
+    if peer == "qhull-2d" and not qhull.measured_at(scale, n):
         return False
     return not (scale == "default" and n > 100_000 and dist not in DEFAULT_1M_SETS)
 
@@ -80,16 +75,14 @@ def grid(scale, threads):
 
 
 def known_failure(scale, cell):
-    """Qhull on paper 1's Circle at 100k and more needs far more than the
-    cell's limit (experiments.fig3), and the KNOWN_HANGS hung at the default
-    scale: not waited for again below the paper scale."""
-    if cell.peer == "qhull-2d" and cell.distribution == "circle" and cell.n >= 100_000:
-        return "known hang: Qhull on nearly cocircular points (experiments.fig3)"
-    least = KNOWN_HANGS.get((cell.peer, cell.distribution))
-    if scale != "paper" and least is not None and cell.n >= least:
-        return (f"known hang: no result within {TIMEOUTS['default']:g} s at the default scale "
-                "(--scale paper waits for it)")
-    return None
+    """A peer's known hang (its driver module's known_failure) is not waited
+    for below the paper scale.  Qhull's on nearly cocircular points is not
+    waited for at the paper scale either: there it would cost the cell's
+    limit at 100k and at 1M."""
+    reason = drivers.known_failure(cell.peer, cell.distribution, cell.n)
+    if reason is None or cell.peer == "qhull-2d":
+        return reason
+    return None if scale == "paper" else reason + " (--scale paper waits for it)"
 
 
 def verdict(rows):
@@ -264,7 +257,7 @@ def _exactness_figure(cells, sets, out):
 EXPERIMENT = Experiment("field", "the field today: lfqt against every 2D peer of 2026, timed and "
                         "checked exactly, on paper 1's sets, a LiDAR model and the hard sets",
                         grid, plot, repeats=3, known_failure=known_failure, check=True,
-                        timeouts=TIMEOUTS)
+                        timeouts=TIMEOUTS, tables=report_lines)
 main = EXPERIMENT.main
 
 

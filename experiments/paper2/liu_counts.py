@@ -3,7 +3,7 @@ cells, per point, for the Kd-tree, BRIO and Hilbert orders on all seven 3D
 models; through CGAL with counting traits and find_conflicts/insert_in_hole
 (the paper's method) and through lfqt.insert.  CGAL's Hilbert is counted with
 our Hilbert order, since CGAL's range insertion calls its conflict search
-internally.  Sizes per model as experiments.liu.sizes (the paper's six at
+internally.  Sizes per model as experiments.paper2.liu.sizes (the paper's six at
 the paper scale).  The flat-count check prints each count's spread across
 the sizes, ours and the paper's (Kd's counts are flat in the paper, BRIO's
 and Hilbert's grow); flagged published rows are drawn apart."""
@@ -11,9 +11,11 @@ import sys
 
 import numpy as np
 
-from . import liu, results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from . import liu
+from ..core import results
+from ..core.claims import AtMost, Claim
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 # CGAL's Hilbert here is our Hilbert order through find_conflicts (see above)
 ORDERS = liu.ORDERS
@@ -145,10 +147,31 @@ def plot(df, out):
     return figure_paths(fig, out, "liu_counts")
 
 
+def _flat(claim, res):
+    flat = flat_counts(res.frame("liu_counts"))
+    kd = {k: v for k, v in flat.items() if k[2] == "kdtree" and k[0] != "paper" and v == v}
+    if not kd:
+        return claim.missing("needs two sizes per model: the default scale")
+    others = [v for k, v in flat.items() if k[2] != "kdtree" and k[0] == "CGAL" and v == v]
+    worst = max(kd.values())
+    paper = [v for k, v in flat.items() if k[0] == "paper" and k[2] == "kdtree" and v == v]
+    return claim.row(f"Kd's largest spread across sizes {worst:.1%} (lfqt and CGAL); BRIO and "
+                     f"Hilbert up to {max(others, default=float('nan')):.0%}; the paper's Kd up "
+                     f"to {max(paper, default=float('nan')):.0%}", claim.rule(worst),
+                     "(max - min) / mean of each count over the measured sizes")
+
+
+CLAIMS = (
+    Claim("Kd's counts are flat in the size", "Kd orientation and conflicts per point nearly "
+          "constant over six sizes (Tables 8-14)", _flat,
+          rule=AtMost(holds=0.1, partly=0.25)),  # Kd's largest (max - min) / mean of a count
+)
+
+
 EXPERIMENT = Experiment("liu_counts", "orientation tests and conflicts per point, seven 3D models, "
                         "three orders, in CGAL and in lfqt", grid, plot,
                         reproduces=tuple(("Paper 2", f"Table {k}") for k in range(8, 15)),
-                        repeats=1, main_job=True)
+                        repeats=1, main_job=True, claims=CLAIMS)
 main = EXPERIMENT.main
 
 

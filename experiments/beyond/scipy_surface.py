@@ -26,9 +26,10 @@ import numpy as np
 
 from drivers.surface import NOT_SCIPY, OPERATIONS
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.claims import FAILS, HOLDS, Claim
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 SETS = {2: "uniform", 3: "cube"}
 SIZES = {"smoke": {2: [2_000], 3: [2_000]},
@@ -174,9 +175,23 @@ def plot(df, out):
     return figure_paths(fig, out, "scipy_surface")
 
 
+def _targets(claim, res):
+    return [claim.row(ours, HOLDS if held else FAILS, why, text=text,
+                      published="scipy's time, same points and queries")
+            for text, ours, held, why in claims(res.frame("scipy_surface"))]
+
+
+# issue 51's targets (TARGET_SECONDS, TARGET_RATIOS), one row each, as ``claims`` judges them
+CLAIMS = (
+    Claim("lfqt.Delaunay and lfqt.interpolate at or below scipy's time on every operation",
+          "scipy 1.17 (Qhull)", _targets),
+)
+
+
 EXPERIMENT = Experiment("scipy_surface", "lfqt.Delaunay and lfqt.interpolate against scipy, "
                         "every operation, warm and first call", grid, plot, repeats=2,
-                        regimes=("loop", "fresh"), default_regimes=("loop", "fresh"))
+                        regimes=("loop", "fresh"), default_regimes=("loop", "fresh"),
+                        claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

@@ -48,7 +48,7 @@ def code_version():
     """The commit, with a hash of the uncommitted changes to the measured
     code (CODE_PATHS) when there are any: the runner measures again a cell
     measured on other code.  None outside a git checkout."""
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     try:
         head = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                               cwd=root)

@@ -20,9 +20,9 @@ Targets (issue 18): at most 1.2 in 2D and 1.0 in 3D, against CGAL's range
 insertion and against CGAL inserting our order with our hints."""
 import sys
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .runner import Cell
+from ..core import results
+from ..core.experiment import Experiment, figure_paths
+from ..core.runner import Cell
 
 SIZES = {"smoke": [5_000], "default": [100_000, 1_000_000], "paper": [1_000_000, 3_000_000]}
 # (dimension, distribution, ours, CGAL peers)

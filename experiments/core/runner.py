@@ -5,12 +5,12 @@ each cell the runner generates the points (seeded, cached), measures the peer
 in a child process with a time and a memory limit (a crash, timeout or
 out-of-memory is recorded with its reason and the sweep goes on), after an
 untimed warm-up that triggers JIT compilation, and records every repeat as a
-tidy row (experiments.results).
+tidy row (experiments.core.results).
 
 Each finished cell is appended to ``cells.jsonl`` and fsynced before the
 next starts, so a killed sweep resumes where it stopped and loses nothing
 finished; ``results.csv`` is rewritten atomically from that log, with the
-metadata sidecar (experiments.machine).
+metadata sidecar (experiments.core.machine).
 """
 import json
 import sys

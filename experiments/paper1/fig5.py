@@ -12,10 +12,14 @@ import sys
 
 import numpy as np
 
-from .experiment import Experiment, figure_paths, many_threads
-from .runner import Cell
+import generators
 
-DISTS = ["uniform", "grid", "cluster", "circle", "spiral"]
+from ..core.claims import UNTESTABLE, AtMost, Claim
+from ..core.experiment import Experiment, figure_paths, many_threads
+from ..core.runner import Cell
+
+# paper 1's five sets, as generators.REGISTRY tags them
+DISTS = generators.names(tag="paper1")
 SIZES = {"smoke": [100_000], "default": [1_000_000], "paper": [10_000_000]}
 PHASES = [("sort", "sort"), ("subdivide_lower", "subdivide (bins)"),
           ("merge_lower", "merge (bins)"), ("subdivide_top", "subdivide (top)"),
@@ -75,9 +79,32 @@ def plot(df, out):
     return figure_paths(fig, out, "fig5")
 
 
+def _top_share(claim, res):
+    df = res.frame("fig5")
+    ok = df[(df["status"] == "ok") & (df["peer"] == "lfqt-dc")]
+    t = int(ok["threads"].max())
+    sub = ok[ok["threads"] == t]
+    tops = {d: np.median([sum(v for k, v in shares(c, t).items() if "(top)" in k)
+                          for c in g["counts"]]) for d, g in sub.groupby("distribution")}
+    text = ", ".join(f"{d} {v:.1f}%" for d, v in tops.items())
+    enough = t >= claim.limits["threads"]
+    return claim.row(f"{t} threads: {text}",
+                     claim.rule(max(tops.values())) if enough else UNTESTABLE,
+                     f"the top grows with the thread count; {t} threads here" if not enough
+                     else "measured at 32+ threads")
+
+
+CLAIMS = (
+    Claim("the top part takes about 10% at 32 threads", "about 10% at 32 threads (Fig. 5)",
+          _top_share,
+          rule=AtMost(holds=15),  # the largest share of the top, in percent, over the sets
+          limits={"threads": 32}),  # judged from this many threads on
+)
+
+
 EXPERIMENT = Experiment("fig5", "lfqt's phases in percent, one thread and all threads, five "
                         "distributions", grid, plot, reproduces=(("Paper 1", "Fig. 5"),),
-                        main_job=True)
+                        main_job=True, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
 """What an experiment is: a name, the published figures and tables it
-regenerates, a grid of cells and a plot drawn from stored results only.
+regenerates, a grid of cells, a plot drawn from stored results only, and
+the published claims it judges (experiments.core.claims).
 ``Experiment.main`` is the command line every experiment shares."""
 import argparse
 import math
@@ -25,7 +26,7 @@ class Experiment:
     title: str
     grid: Callable    # (scale, threads, **grid_options) -> [runner.Cell]
     plot: Callable    # (results DataFrame, out dir) -> [figure paths]; prints its table
-    reproduces: tuple = ()  # published items, as in experiments.registry.PUBLISHED
+    reproduces: tuple = ()  # published items, (paper, item) as its section's PUBLISHED has them
     repeats: int = 3
     rounds: int = 1
     options: tuple = ()  # extra (flag, argparse keywords)
@@ -41,7 +42,7 @@ class Experiment:
     # (experiments.distributed runs a whole Dask cluster per cell)
     measure: Callable = None
     # args -> more entries of the metadata sidecar, measured before the grid
-    # (fig6: this machine's own thread scaling, experiments.probe)
+    # (fig6: this machine's own thread scaling, experiments.core.probe)
     metadata: Callable = None
     # the regimes (drivers.isolate.REGIMES) the plot tells apart; --regime
     # takes any of them, and the grid is measured once per regime asked for
@@ -49,6 +50,11 @@ class Experiment:
     default_regimes: tuple = ("loop",)  # what --regime is when not given
     check: bool = False  # judge every mesh exactly (drivers.exactness) after its timed runs
     timeouts: dict = None  # per-cell limits by scale, where not TIMEOUTS
+    # the published claims it judges (claims.Claim), in the report's order
+    claims: tuple = ()
+    # (results DataFrame or None) -> Markdown lines the report adds after the
+    # claims: tables rather than verdicts (experiments.beyond.field)
+    tables: Callable = None
 
     @property
     def command(self):

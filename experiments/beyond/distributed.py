@@ -26,14 +26,15 @@ import numpy as np
 
 from generators import chunked
 
-from . import results
-from .experiment import Experiment, figure_paths
-from .machine import machine_info
+from ..core import results
+from ..core.claims import FAILS, HOLDS, Claim
+from ..core.experiment import Experiment, figure_paths
+from ..core.machine import machine_info
 
 SETS = ["uniform", "cluster"]
 SIZES = {"smoke": [100_000], "default": [1_000_000, 10_000_000],
          "paper": [1_000_000, 10_000_000, 100_000_000]}
-SINGLE_BYTES_PER_POINT = 160  # lfqt's peak per point at 10M (experiments.perf), with margin
+SINGLE_BYTES_PER_POINT = 160  # lfqt's peak per point at 10M (experiments.core.perf), with margin
 SEED = 0
 
 
@@ -225,10 +226,44 @@ def plot(df, out):
     return figure_paths(fig, out, "distributed")
 
 
+def _exact_and_small(claim, res):
+    df = res.frame("distributed")
+    parts, exact, small = [], True, True
+    dist = df[df["peer"] == "lfqt-distributed"]
+    for (d, n), g in dist.groupby(["distribution", "n"], sort=True):
+        c = g["counts"].iloc[0]
+        one = df[(df["peer"] == "lfqt") & (df["distribution"] == d) & (df["n"] == n)]
+        peak = g["peak_bytes"].max()
+        ok = c.get("equal_to_lfqt", c.get("verified")) and c.get("verified")
+        exact &= bool(ok)
+        small &= peak < claim.limits["peak_bytes"]
+        vs = (f", {results.fmt_ratio(g['seconds'].median() / one['seconds'].median())} one "
+              "process's time" if len(one) else "")
+        check = "equal to lfqt" if c.get("equal_to_lfqt") else "verified" if ok else "WRONG"
+        parts.append(f"{d} {n:,}: {g['seconds'].median():.1f} s{vs}, {c['rounds']} rounds, "
+                     f"peak {peak / 2**30:.1f} GiB per worker, {check}")
+    verdict = HOLDS if exact and small else FAILS
+    return claim.row("; ".join(parts), verdict,
+                     "equality with lfqt.triangulate where it fits, lfqt.distributed.verify "
+                     "(exact, tile by tile) everywhere; on one machine the rounds cost more than "
+                     "they save (each tile is triangulated again with its border)"
+                     if verdict == HOLDS else "a result was not exact or a worker exceeded 8 GiB")
+
+
+CLAIMS = (
+    # holds when every result is exact and no worker's peak reaches peak_bytes
+    Claim("an exact triangulation of sets beyond one machine, on Dask (Tile & Merge), no "
+          "process above about 8 GB", "Tile & Merge on Spark (Caraffa et al. 2019), not a "
+          "library; issue: 10^8 points under 8 GB per process", _exact_and_small,
+          limits={"peak_bytes": 8 * 2**30}),
+)
+
+
 EXPERIMENT = Experiment(
     name="distributed", title="Tile & Merge on Dask: 1e6 to 1e8 points, exact", grid=grid,
     plot=plot, repeats=1, measure=measure,
-    options=(("--data", dict(help="scratch directory for the chunks and the tiles' files")),))
+    options=(("--data", dict(help="scratch directory for the chunks and the tiles' files")),),
+    claims=CLAIMS)
 
 if __name__ == "__main__":
     sys.exit(EXPERIMENT.main())
