@@ -61,6 +61,9 @@ class Failure:
 # its own, so each of its runs is a first call in every regime; it times
 # itself inside that process, after reading its input.
 REGIMES = ("loop", "kept", "fresh")
+REGIME_TEXT = {"loop": "a warm process, each result dropped",
+               "kept": "a warm process, every result kept alive",
+               "fresh": "a new process's first call, after import"}
 
 
 def measure(peer, points, *, repeats=3, order=None, count=False, keep_simplices=False,

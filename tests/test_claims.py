@@ -77,3 +77,31 @@ def test_every_declared_claim_has_its_rule_or_judge():
     for c in claims:
         assert c.text and c.published and callable(c.judge)
         assert c.rule is None or callable(c.rule)
+
+
+def test_bench_dc_judges_what_a_program_sees_in_every_regime_on_one_thread(tmp_path):
+    """The worst regime decides, lfqt on one thread; its two-thread rows are
+    reported beside them and do not pool into the one-thread medians; a
+    regime not measured leaves the claim not measured."""
+    from experiments.bench import bench_dc
+    times = {("lfqt-dc", 1): {"loop": 0.2, "kept": 0.25, "fresh": 0.3},
+             ("lfqt-dc", 2): {"loop": 0.1, "kept": 0.1, "fresh": 0.1},
+             ("cgal-dt2", 1): {"loop": 0.5, "kept": 0.5, "fresh": 0.5},
+             ("triangle-native", 1): {"loop": 1.0, "kept": 1.0, "fresh": 1.0}}
+    rows = []
+    for (peer, threads), by_regime in times.items():
+        for regime, t in by_regime.items():
+            outcome = {"status": "ok", "seconds": [t, t], "cycles": [1, 1], "peak_bytes": 0,
+                       "version": "", "counts": {}}
+            cell = Cell(peer, "uniform", 1_000_000, threads=threads, regime=regime)
+            rows += results.rows_for(cell, "bench_dc", outcome)
+    (tmp_path / "bench_dc").mkdir()
+    results.write(tmp_path / "bench_dc", rows)
+    row, = judge(bench_dc.EXPERIMENT, Results(tmp_path))
+    assert row.verdict == PARTLY  # CGAL on a first call: 0.5 / 0.3 = 1.67x, 67% of 2.5x
+    assert "67%" in row.why
+    assert "loop, 1 thread: lfqt 0.200 s, CGAL 2.50x (cgal-dt2)" in row.ours
+    assert "fresh, 2 threads: lfqt 0.100 s, CGAL 5.00x" in row.ours
+    results.write(tmp_path / "bench_dc", [r for r in rows if r["regime"] != "fresh"])
+    row, = judge(bench_dc.EXPERIMENT, Results(tmp_path))
+    assert row.verdict == MISSING and "--regime loop,kept,fresh" in row.why

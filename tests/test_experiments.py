@@ -54,9 +54,9 @@ def test_bench_dc_measures_each_regime_apart(tmp_path, capsys):
     assert all(r["status"] == "ok" for r in rows) and len(rows) == 12
     text = capsys.readouterr().out
     assert [l for l in text.splitlines() if l.startswith("== regime:")] == [
-        "== regime: loop (a warm process, each result dropped) ==",
-        "== regime: kept (a warm process, every result kept alive) ==",
-        "== regime: fresh (a new process's first call, after import) =="]
+        "== regime: loop (a warm process, each result dropped), lfqt on 1 thread ==",
+        "== regime: kept (a warm process, every result kept alive), lfqt on 1 thread ==",
+        "== regime: fresh (a new process's first call, after import), lfqt on 1 thread =="]
     for name in ("bench_dc", "bench_dc-kept", "bench_dc-fresh"):
         assert (tmp_path / "smoke" / "figures" / f"{name}.png").stat().st_size > 20000
     with pytest.raises(SystemExit, match="--regime hot is not measured"):
@@ -427,3 +427,26 @@ def test_scipy_surface_times_every_operation_of_both_libraries_in_both_regimes(t
     row = next(l for l in text.splitlines() if l.startswith("loop") and " transform " in l)
     assert row.split()[-1] == results.fmt_ratio(ratio)
     assert (tmp_path / "smoke" / "figures" / "scipy_surface.png").stat().st_size > 20000
+
+
+def test_fig3_draws_each_regime_apart(tmp_path, capsys):
+    """fig3 --regime: a figure per regime stored (fig3.png for the loop,
+    fig3-<regime>.png for the others), each from its own regime's rows."""
+    from experiments.paper1 import fig3
+    rows = []
+    for regime, t in (("loop", 0.2), ("fresh", 0.4)):
+        for peer, factor in (("lfqt-dc", 1.0), ("cgal-dt2", 2.0)):
+            outcome = {"status": "ok", "seconds": [t * factor], "cycles": [1], "peak_bytes": 0,
+                       "version": "", "counts": {}}
+            rows += results.rows_for(Cell(peer, "uniform", 20_000, regime=regime), "fig3",
+                                     outcome)
+    (tmp_path / "fig3").mkdir()
+    results.write(tmp_path / "fig3", rows)
+    paths = fig3.plot(results.load(tmp_path / "fig3"), tmp_path)
+    assert sorted(os.path.basename(str(p)) for p in paths if str(p).endswith(".png")) == \
+        ["fig3-fresh.png", "fig3.png"]
+    text = capsys.readouterr().out
+    assert [l for l in text.splitlines() if l.startswith("== regime:")] == [
+        "== regime: loop (a warm process, each result dropped) ==",
+        "== regime: fresh (a new process's first call, after import) =="]
+    assert text.count("2.00x") >= 2  # CGAL over lfqt in each regime's own table

@@ -108,9 +108,14 @@ class Results:
             self._frames[name] = None if df is None or df.empty else df
         return self._frames[name]
 
-    def summary(self, name, by=results.CELL):
+    def summary(self, name, by=results.CELL, regime="loop"):
+        """The experiment's cells summarized (results.summarize), in one
+        regime (drivers.isolate.REGIMES; the papers' steady state by
+        default), or None."""
         df = self.frame(name)
-        return None if df is None else results.summarize(df, by=by)
+        if df is None:
+            return None
+        return results.summarize(df[df["regime"] == regime], by=by)
 
     def meta(self, name):
         return results.metadata(self.root, name)

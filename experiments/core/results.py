@@ -128,7 +128,7 @@ def cell(summary, *key):
     the cell was not measured."""
     try:
         row = summary.loc[tuple(key)].to_dict()
-    except KeyError:
+    except (KeyError, pd.errors.IndexingError):  # not measured, or nothing at all (no levels)
         return {}
     return {k: None if isinstance(v, float) and v != v else v for k, v in row.items()}
 
