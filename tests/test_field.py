@@ -1,5 +1,6 @@
 """experiments.field: its grid, its tables, and a user's LAS/LAZ file as
 input end to end (issue 53)."""
+import argparse
 import json
 import subprocess
 import sys
@@ -37,10 +38,10 @@ def test_the_grid_judges_every_peer_on_every_hard_set():
     assert experiments()["field"] is field.EXPERIMENT
 
 
-def _rows(peer, dist, n, status="ok", check=None, seconds=(1.0,), detail=""):
+def _rows(peer, dist, n, status="ok", check=None, seconds=(1.0,), detail="", regime="loop"):
     return [dict(peer=peer, distribution=dist, n=n, count=False, status=status, detail=detail,
                  seconds=s if status == "ok" else None, check=check or {}, round=0,
-                 bytes_per_point=None, counts={}) for s in seconds]
+                 bytes_per_point=None, counts={}, regime=regime) for s in seconds]
 
 
 def test_tables_say_exact_wrong_refused_crashed_and_hung():
@@ -65,6 +66,25 @@ def test_tables_say_exact_wrong_refused_crashed_and_hung():
     assert "| lfqt-dc | 0.02 s |" in timing
     assert "| delaunator | 0.04 s (2.00x), **wrong: 250 bad edges** |" in timing
     assert field.report_lines(None)[2].startswith("Not measured yet")
+
+
+def test_each_regime_has_its_own_timing_table_and_the_exactness_sets_run_in_the_loop_alone():
+    exact = {"verdict": "exact"}
+    df = pd.DataFrame(
+        _rows("lfqt-dc", "uniform", 100_000, check=exact, seconds=(0.01,))
+        + _rows("cgal-dt2", "uniform", 100_000, check=exact, seconds=(0.03,))
+        + _rows("lfqt-dc", "uniform", 100_000, check=exact, seconds=(0.02,), regime="fresh")
+        + _rows("cgal-dt2", "uniform", 100_000, check=exact, seconds=(0.03,), regime="fresh"))
+    lines = field.timing_tables(df)
+    heads = [k for k, l in enumerate(lines) if l.startswith("Regime **")]
+    assert [lines[k].split("**")[1] for k in heads] == ["loop", "fresh"]
+    loop, fresh = "\n".join(lines[heads[0]:heads[1]]), "\n".join(lines[heads[1]:])
+    assert "| cgal-dt2 | 0.03 s (3.00x) |" in loop and "| cgal-dt2 | 0.03 s (1.50x) |" in fresh
+    args = argparse.Namespace(scale="smoke", threads=1, peers=None, sizes=None, dists=None,
+                              input=None, regime=["loop", "fresh"])
+    cells = field.EXPERIMENT.cells(args)
+    assert {c.distribution for c in cells if c.regime == "fresh"} <= set(field.TIME_SETS)
+    assert {c.distribution for c in cells if c.regime == "loop"} >= set(field.HARD_SETS)
 
 
 def _laz(path, n):

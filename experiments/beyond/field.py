@@ -2,6 +2,7 @@
 timed on the same input in the same run, and every mesh checked exactly.
 
     python -m experiments.field [--scale smoke|default|paper] [--input cloud.laz]
+                                [--regime loop,kept,fresh]
 
 Two parts, one grid:
 
@@ -19,18 +20,22 @@ outcome, never the end of the sweep) and its last mesh is judged by
 lfqt.verify: exact, wrong (bad edges, missing triangles), refused (the
 peer raised an error), crashed, or hung (no result within the cell's time
 limit).  Each peer runs in its fastest documented way (drivers/: one
-module per family says how).  Figures: results/figures/field.png (time
+module per family says how).  The timed part runs in each regime asked
+for (drivers.isolate.REGIMES; the loop by default); the exactness sets do
+not depend on it and run in the loop regime alone.  Figures: results/figures/field.png (time
 with each bar coloured by its exactness) and field_exactness.png (peer x
 hard set); REPORT.md's section "The field today" has both tables."""
 import re
 import sys
 
 import numpy as np
+import pandas as pd
 
 import drivers
 import generators
 from drivers import qhull
 from drivers.exactness import describe
+from drivers.isolate import REGIME_TEXT, REGIMES
 
 from ..core import results
 from ..core.experiment import Experiment, figure_paths
@@ -105,14 +110,25 @@ def verdict(rows):
     return check["verdict"], describe(check)
 
 
-def cells_of(df):
-    """{(peer, set, n): (median seconds or None, kind, text)} of a sweep."""
+def cells_of(df, regime="loop"):
+    """{(peer, set, n): (median seconds or None, kind, text)} of a sweep's
+    cells in ``regime`` (rows without one are the loop regime's)."""
+    df = df[_regime(df) == regime]
     s = results.summarize(df)
     out = {}
     for (peer, d, n), rows in df.groupby(["peer", "distribution", "n"], sort=False):
         kind, text = verdict(rows)
         out[(peer, d, int(n))] = (results.median(s, peer, d, n, False), kind, text)
     return out
+
+
+def regimes_of(df):
+    """The regimes a sweep measured, in REGIMES' order."""
+    return [r for r in REGIMES if r in set(_regime(df))]
+
+
+def _regime(df):
+    return df["regime"] if "regime" in df else pd.Series("loop", index=df.index)
 
 
 def exactness_table(df):
@@ -136,10 +152,10 @@ def exactness_table(df):
     return lines
 
 
-def timing_table(df):
-    """Markdown lines: peer x (set, size) of the timed part: median seconds,
-    its ratio to lfqt's, and the verdict of that mesh."""
-    cells = cells_of(df)
+def timing_table(df, regime="loop"):
+    """Markdown lines: peer x (set, size) of the timed part in ``regime``:
+    median seconds, its ratio to lfqt's, and the verdict of that mesh."""
+    cells = cells_of(df, regime)
     keys = sorted({(d, n) for _, d, n in cells if d.startswith("input:")
                    or (d in TIME_SETS and n >= 10_000)},
                   key=lambda k: (k[1], TIME_SETS.index(k[0]) if k[0] in TIME_SETS else -1))
@@ -162,6 +178,16 @@ def timing_table(df):
     return lines
 
 
+def timing_tables(df):
+    """timing_table of each regime measured, each under a line naming it."""
+    lines = []
+    for regime in regimes_of(df):
+        table = timing_table(df, regime)
+        if table:
+            lines += [f"Regime **{regime}**: {REGIME_TEXT[regime]}.", ""] + table + [""]
+    return lines
+
+
 def report_lines(df):
     """REPORT.md's section "The field today" from a stored sweep."""
     if df is None:
@@ -172,8 +198,8 @@ def report_lines(df):
              "process per cell, on the same points (`python -m experiments.field`). Time: the "
              "median of the timed runs, in brackets the ratio to lfqt-dc's (> 1: lfqt faster); "
              "a mesh that is not the Delaunay triangulation (lfqt.verify, exact) is marked.", ""]
-            + timing_table(df)
-            + ["", "Exactness on the hard sets: *exact*, *wrong* (edges whose in-circle test fails, "
+            + timing_tables(df)
+            + ["Exactness on the hard sets: *exact*, *wrong* (edges whose in-circle test fails, "
                "triangles missing against the Delaunay count), *refused* (the peer raised an "
                "error), *crashed*, *hung* (no result within the cell's limit).", ""]
             + exactness_table(df)
@@ -182,12 +208,25 @@ def report_lines(df):
 
 
 def plot(df, out):
+    """The tables, a time figure per regime (field.png for the loop regime,
+    field-<regime>.png for the others) and the exactness figure."""
+    print("\n" + "\n".join(timing_tables(df)))
+    print("\nExactness on the hard sets:\n" + "\n".join(exactness_table(df)))
+    paths = []
+    for regime in regimes_of(df):
+        paths += _time_figure(cells_of(df, regime), out, regime)
+    cells = cells_of(df)
+    hard = [d for d in HARD_SETS if any(k[1] == d for k in cells)]
+    if hard:
+        paths += _exactness_figure(cells, hard, out)
+    return paths
+
+
+def _time_figure(cells, out, regime):
+    """The time panels of one regime's cells (the largest size of each set)."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
     from matplotlib.ticker import NullFormatter
-    cells = cells_of(df)
-    print("\n" + "\n".join(timing_table(df)))
-    print("\nExactness on the hard sets:\n" + "\n".join(exactness_table(df)))
     panels = sorted({(d, n) for _, d, n in cells if d not in HARD_SETS or n >= 10_000
                      or d.startswith("input:")}, key=lambda k: (k[0], k[1]))
     panels = [k for k in panels if k[1] == max(n for _, d, n in cells if d == k[0])]
@@ -220,12 +259,10 @@ def plot(df, out):
                     "refused, crashed, hung"], loc="lower center", ncol=3, fontsize=8,
                    frameon=False)
         fig.suptitle("The field today: time of each 2D peer, coloured by whether its mesh is "
-                     "the Delaunay triangulation")
+                     "the Delaunay triangulation"
+                     + ("" if regime == "loop" else f"\n{regime} regime: {REGIME_TEXT[regime]}"))
         fig.tight_layout(rect=(0, 0.04, 1, 1))
-        paths += figure_paths(fig, out, "field")
-    hard = [d for d in HARD_SETS if any(k[1] == d for k in cells)]
-    if hard:
-        paths += _exactness_figure(cells, hard, out)
+        paths += figure_paths(fig, out, "field" if regime == "loop" else f"field-{regime}")
     return paths
 
 
@@ -257,7 +294,8 @@ def _exactness_figure(cells, sets, out):
 EXPERIMENT = Experiment("field", "the field today: lfqt against every 2D peer of 2026, timed and "
                         "checked exactly, on paper 1's sets, a LiDAR model and the hard sets",
                         grid, plot, repeats=3, known_failure=known_failure, check=True,
-                        timeouts=TIMEOUTS, tables=report_lines)
+                        timeouts=TIMEOUTS, tables=report_lines, regimes=REGIMES,
+                        loop_only=lambda cell: cell.distribution in HARD_SETS)
 main = EXPERIMENT.main
 
 

@@ -48,6 +48,9 @@ class Experiment:
     # takes any of them, and the grid is measured once per regime asked for
     regimes: tuple = ("loop",)
     default_regimes: tuple = ("loop",)  # what --regime is when not given
+    # cell -> True for a cell whose outcome does not depend on the regime (the
+    # field's exactness sets): measured in the loop regime alone
+    loop_only: Callable = None
     check: bool = False  # judge every mesh exactly (drivers.exactness) after its timed runs
     timeouts: dict = None  # per-cell limits by scale, where not TIMEOUTS
     # the published claims it judges (claims.Claim), in the report's order
@@ -82,7 +85,8 @@ class Experiment:
         if unknown:
             raise SystemExit(f"{self.command}: --regime {','.join(unknown)} is not measured by "
                              f"this experiment (it has {', '.join(self.regimes)})")
-        cells = [replace(c, regime=r) for r in args.regime for c in cells]
+        cells = [replace(c, regime=r) for r in args.regime for c in cells
+                 if r == "loop" or not (self.loop_only and self.loop_only(c))]
         for c in cells:
             try:
                 runner.check(c)
