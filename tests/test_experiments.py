@@ -429,24 +429,28 @@ def test_scipy_surface_times_every_operation_of_both_libraries_in_both_regimes(t
     assert (tmp_path / "smoke" / "figures" / "scipy_surface.png").stat().st_size > 20000
 
 
-def test_fig3_draws_each_regime_apart(tmp_path, capsys):
-    """fig3 --regime: a figure per regime stored (fig3.png for the loop,
-    fig3-<regime>.png for the others), each from its own regime's rows."""
-    from experiments.paper1 import fig3
+@pytest.mark.parametrize("name, ours, peer, dist", [
+    ("fig3", "lfqt-dc", "cgal-dt2", "uniform"),
+    ("bench_insert", "lfqt-insert-kdtree", "cgal-dt3", "cube")])
+def test_a_figure_per_regime(tmp_path, capsys, name, ours, peer, dist):
+    """--regime: a figure per regime stored (<name>.png for the loop,
+    <name>-<regime>.png for the others), each from its own regime's rows."""
+    import importlib
+    module = importlib.import_module(f"experiments.{name}")
     rows = []
     for regime, t in (("loop", 0.2), ("fresh", 0.4)):
-        for peer, factor in (("lfqt-dc", 1.0), ("cgal-dt2", 2.0)):
+        for who, factor in ((ours, 1.0), (peer, 2.0)):
             outcome = {"status": "ok", "seconds": [t * factor], "cycles": [1], "peak_bytes": 0,
                        "version": "", "counts": {}}
-            rows += results.rows_for(Cell(peer, "uniform", 20_000, regime=regime), "fig3",
-                                     outcome)
-    (tmp_path / "fig3").mkdir()
-    results.write(tmp_path / "fig3", rows)
-    paths = fig3.plot(results.load(tmp_path / "fig3"), tmp_path)
+            rows += results.rows_for(Cell(who, dist, 20_000, regime=regime), name, outcome)
+    (tmp_path / name).mkdir()
+    results.write(tmp_path / name, rows)
+    paths = module.plot(results.load(tmp_path / name), tmp_path)
     assert sorted(os.path.basename(str(p)) for p in paths if str(p).endswith(".png")) == \
-        ["fig3-fresh.png", "fig3.png"]
+        [f"{name}-fresh.png", f"{name}.png"]
     text = capsys.readouterr().out
     assert [l for l in text.splitlines() if l.startswith("== regime:")] == [
         "== regime: loop (a warm process, each result dropped) ==",
         "== regime: fresh (a new process's first call, after import) =="]
-    assert text.count("2.00x") >= 2  # CGAL over lfqt in each regime's own table
+    ratio = "2.00x" if name == "fig3" else "0.50x"  # fig3: peer/lfqt; bench_insert: lfqt/peer
+    assert text.count(ratio) >= 2  # in each regime's own table

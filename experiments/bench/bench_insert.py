@@ -2,6 +2,7 @@
 single thread.
 
     python -m experiments.bench_insert [--scale smoke|default|paper] [--rounds R]
+                                       [--regime loop,kept,fresh]
 
 2D: lfqt's Kd-order insertion against CGAL's Delaunay_triangulation_2 range
 insertion (which spatially sorts) of plain points (cgal-dt2, CGAL at its
@@ -17,8 +18,12 @@ maps it to indices after the timed region): the comparison leans towards
 CGAL.  The figure shows the medians; each CGAL bar
 is labelled with lfqt's time divided by CGAL's (> 1: CGAL is faster).
 Targets (issue 18): at most 1.2 in 2D and 1.0 in 3D, against CGAL's range
-insertion and against CGAL inserting our order with our hints."""
+insertion and against CGAL inserting our order with our hints.  In each
+regime asked for (drivers.isolate.REGIMES: a table and a figure each,
+bench_insert.png for the loop, bench_insert-<regime>.png for the others)."""
 import sys
+
+from drivers.isolate import REGIME_TEXT, REGIMES
 
 from ..core import results
 from ..core.experiment import Experiment, figure_paths
@@ -38,6 +43,14 @@ def grid(scale, threads):
 
 
 def plot(df, out):
+    paths = []
+    for regime in [r for r in REGIMES if r in set(df["regime"])]:
+        print(f"\n== regime: {regime} ({REGIME_TEXT[regime]}) ==")
+        paths += _plot(df[df["regime"] == regime], out, regime)
+    return paths
+
+
+def _plot(df, out, regime):
     import matplotlib.pyplot as plt
     s = results.summarize(df)
     ns = sorted(df["n"].unique())
@@ -74,16 +87,18 @@ def plot(df, out):
         ax.legend(fontsize=8)
         ax.grid(axis="y", alpha=0.3)
     fig.suptitle("lfqt.insert against CGAL, same input, same run; bar labels: median seconds "
-                 "and lfqt time / peer time", fontsize=10)
+                 f"and lfqt time / peer time\n{regime} regime: {REGIME_TEXT[regime]}",
+                 fontsize=10)
     fig.tight_layout()
-    return figure_paths(fig, out, "bench_insert")
+    return figure_paths(fig, out, "bench_insert" if regime == "loop" else f"bench_insert-{regime}")
 
 
 # 3 interleaved rounds of 2 runs, not 1 round of 5: the 3D target's margin
 # is a few percent, and on a shared machine whole minutes run slow; the
 # median of the rounds' own ratios (results.round_ratio) then stands apart.
 EXPERIMENT = Experiment("bench_insert", "lfqt.insert in Kd order against CGAL DT2/DT3, same "
-                        "input, same run, interleaved rounds", grid, plot, repeats=2, rounds=3)
+                        "input, same run, interleaved rounds", grid, plot, repeats=2, rounds=3,
+                        regimes=REGIMES)
 main = EXPERIMENT.main
 
 
