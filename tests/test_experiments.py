@@ -454,3 +454,10 @@ def test_a_figure_per_regime(tmp_path, capsys, name, ours, peer, dist):
         "== regime: fresh (a new process's first call, after import) =="]
     ratio = "2.00x" if name == "fig3" else "0.50x"  # fig3: peer/lfqt; bench_insert: lfqt/peer
     assert text.count(ratio) >= 2  # in each regime's own table
+
+
+def test_back_to_back_times_the_import_and_the_first_call_apart():
+    """A new interpreter imports lfqt and triangulates at once: two
+    positive durations, parsed from the child's own clock."""
+    imported, first = bench_dc.back_to_back(2_000, runs=1)
+    assert imported > 0 and first > 0
