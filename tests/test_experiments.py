@@ -461,3 +461,11 @@ def test_back_to_back_times_the_import_and_the_first_call_apart():
     positive durations, parsed from the child's own clock."""
     imported, first = bench_dc.back_to_back(2_000, runs=1)
     assert imported > 0 and first > 0
+
+
+def test_bench_dc_runs_lfqt_on_each_thread_count_beside_one_run_of_each_peer():
+    cells = bench_dc.grid("default", 1, lfqt_threads=[1, 2])
+    ours = [(c.distribution, c.n, c.threads) for c in cells if c.peer == bench_dc.REFERENCE]
+    assert sorted({t for *_, t in ours}) == [1, 2] and len(ours) == len(set(ours))
+    assert {c.threads for c in cells if c.peer != bench_dc.REFERENCE} == {1}
+    assert len(cells) == len(bench_dc.grid("default", 1)) + len(ours) // 2

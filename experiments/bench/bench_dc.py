@@ -4,6 +4,7 @@ input in the same run, single thread.
     python -m experiments.bench_dc [--scale smoke|default|paper] [--rounds R]
                                    [--repeats K] [--peers a,b] [--dists a,b]
                                    [--sizes 1e5,1e6] [--no-compile-time]
+                                   [--regime loop,kept,fresh] [--lfqt-threads 1,2]
 
 Every cell runs in a child process after an untimed warm-up.  lfqt's time is
 the whole ``lfqt.triangulate`` call: validation, the triangulation, and the
@@ -80,10 +81,15 @@ def verdict(family, dist, n, ratio):
     return f" (target >= {target:.1f}x: {'met' if ratio >= target else 'missed'})"
 
 
-def grid(scale, threads):
-    return [Cell(peer, dist, n, threads=threads if peer == REFERENCE else 1)
+def grid(scale, threads, lfqt_threads=None):
+    """Every peer on every (set, size) of the scale; lfqt-dc on ``threads``,
+    or once per count of ``lfqt_threads`` (--lfqt-threads 1,2: both in one
+    results table, beside the same peers' runs), the peers on one."""
+    counts = lfqt_threads or [threads]
+    return [Cell(peer, dist, n, threads=t)
             for dist in DISTS[scale] for n in SIZES[scale] for peer in PEERS
-            if not peer.startswith("qhull") or qhull.measured_at(scale, n)]
+            if not peer.startswith("qhull") or qhull.measured_at(scale, n)
+            for t in (counts if peer == REFERENCE else [1])]
 
 
 def compile_seconds():
@@ -303,8 +309,13 @@ CLAIMS = (
 
 EXPERIMENT = Experiment("bench_dc", "lfqt-dc against every 2D peer, same input, same run, "
                         "interleaved rounds", grid, plot, repeats=3, rounds=3,
-                        options=(("--no-compile-time", dict(action="store_true")),), setup=setup,
-                        regimes=REGIMES, claims=CLAIMS)
+                        options=(("--no-compile-time", dict(action="store_true")),
+                                 ("--lfqt-threads", dict(
+                                     type=lambda s: [int(v) for v in s.split(",")],
+                                     help="lfqt's thread counts, comma separated, all in one "
+                                          "run (default: --threads)"))),
+                        grid_options=("lfqt_threads",), setup=setup, regimes=REGIMES,
+                        claims=CLAIMS)
 main = EXPERIMENT.main
 
 
