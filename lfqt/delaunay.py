@@ -16,7 +16,7 @@ from .derived import hyperplanes, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
 from .location import (TINY_SHIFT, coherent, grid_order, jump_sample, locate_brute, locate_rational,
                        locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
-                       tiny_frame_ok)
+                       tiny_frame_ok, unframe, walk_frame)
 from .triangulation import DegenerateInputError, Triangulation
 from .workers import Workers
 
@@ -228,22 +228,21 @@ class Delaunay:
         return self._cached("frame", lambda: self.points * self._scale)
 
     def _walk_frame(self, queries):
-        """(P, S) the walk reads: the frame and the simplices, or, once the
-        queries walked reach a quarter of the points, the vertices renumbered
-        along the curve (``P[perm]``, ``inv[S]``, same simplex rows) so that
-        a walk reads neighbouring memory instead of the input's order: half
-        the walk's time on a 1M mesh (docs/performance.md, "location
-        frame"), for a copy of the points and the simplices."""
+        """(P, S, N, order) the walk reads: the frame and the mesh (order
+        None), or, once the queries walked reach a quarter of the points,
+        the mesh renumbered along the curve (``location.walk_frame``:
+        vertices and simplices, whose rows ``order`` maps back), so that a
+        walk reads neighbouring memory instead of the input's order: about
+        half the walk's time on a 1M mesh (docs/performance.md, "location
+        frame"), for a copy of the points, the simplices and the
+        neighbours."""
         self._located += queries
         if "walk_frame" not in self._cache and 4 * self._located < self.npoints:
-            return self._frame(), self.simplices
+            return self._frame(), self.simplices, self.neighbors, None
 
         def build():
             P = self._frame()
-            perm = grid_order(P)
-            inv = np.empty(len(perm), dtype=self.simplices.dtype)
-            inv[perm] = np.arange(len(perm), dtype=inv.dtype)
-            return np.ascontiguousarray(P[perm]), inv[self.simplices]
+            return walk_frame(P, self.simplices, self.neighbors, grid_order(P))
         return self._cached("walk_frame", build)
 
     def _workers(self):
@@ -408,26 +407,26 @@ class Delaunay:
         out, at = np.empty(len(Q), dtype=np.int64), np.empty(len(Q), dtype=np.int64)
         if len(Q) == 0:
             return out, at
-        N = self.neighbors
-        P, S = (self._frame(), self.simplices) if bruteforce else self._walk_frame(len(Q))
         workers = self._workers() if len(Q) > 4096 else Workers(1)
         chunks = workers.chunks(len(Q), min_chunk=4096)
         if bruteforce:
+            P, S = self._frame(), self.simplices
             B = simplex_boxes(P, S)
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
-        else:
-            jump = jump_sample(len(Q), len(S))
-            if coherent(Q):  # the caller's order is already one along space
-                workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at,
-                                                                  jump))
-                return out, at
-            # the queries gathered in curve order, so that the walks read and write in a run
+            return out, at
+        P, S, N, rows = self._walk_frame(len(Q))
+        jump = jump_sample(len(Q), len(S))
+        if coherent(Q):  # the caller's order is already one along space
+            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at, jump))
+        else:  # the queries gathered in curve order, so that the walks read and write in a run
             order = grid_order(Q)
             Qs, found, last = Q[order], np.empty_like(out), np.empty_like(at)
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
                                                               jump))
             out[order], at[order] = found, last
+        if rows is not None:  # the walk frame's simplices, back to the mesh's rows
+            unframe(rows, out, at)
         return out, at
 
     def _locate_tolerant(self, q, tol, found, rows, start, near):

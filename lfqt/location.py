@@ -106,14 +106,6 @@ def _contains(P, S, t, qx, qy, qz):
 
 
 @njit(cache=True, inline="always")
-def _below(ax, ay, bx, by, qx, qy):
-    """q strictly to the right of the directed edge a -> b (beyond it, for
-    a counter-clockwise triangle)."""
-    o, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
-    return o < 0.0
-
-
-@njit(cache=True, inline="always")
 def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """a, b, c, d negatively oriented (q, in one slot, beyond the facet of
     the other three)."""
@@ -122,11 +114,16 @@ def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 
 
 @njit(cache=True, inline="always")
-def _step2(P, S, t, qx, qy, first, came):
-    """The edge of triangle t that q lies beyond, or -1 (q is in t).  The
-    corners are read once; the edge the walk came through (``came``) is
-    not tested again, q lies beyond it from the other side; ``first``, the
-    edge tried first, varies with the query, so that the walk cannot cycle::
+def _step2(P, S, t, qx, qy):
+    """The edge of triangle t that q lies farthest beyond, or -1 (q is in
+    t).  The three orientations are evaluated together, each with q as the
+    origin (one set of differences), and certified by stage A's bound
+    (``orient2d_staged``); only an uncertain one is decided again,
+    exactly.  No branch per edge: on a large mesh the walk waits on memory
+    and on mispredicted branches, not on arithmetic.  The edge the walk came
+    through is never chosen (q is on its other side, or on it), and on a
+    Delaunay triangulation any choice among the edges q is beyond ends
+    (Edelsbrunner), the farthest one in fewer steps::
 
             c
            / \\        edge i is the one opposite corner i:
@@ -136,21 +133,24 @@ def _step2(P, S, t, qx, qy, first, came):
     """
     a, b, c = S[t, 0], S[t, 1], S[t, 2]
     ax, ay, bx, by, cx, cy = P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1]
-    for j in range(3):
-        i = first + j
-        if i >= 3:
-            i -= 3
-        if i == came:
-            continue
-        if i == 0:
-            beyond = _below(bx, by, cx, cy, qx, qy)
-        elif i == 1:
-            beyond = _below(cx, cy, ax, ay, qx, qy)
-        else:
-            beyond = _below(ax, ay, bx, by, qx, qy)
-        if beyond:
-            return i
-    return -1
+    aqx, aqy, bqx, bqy, cqx, cqy = ax - qx, ay - qy, bx - qx, by - qy, cx - qx, cy - qy
+    # orient(b, c, q), orient(c, a, q), orient(a, b, q) as orient2d_staged forms them
+    u0, v0 = bqx * cqy, bqy * cqx
+    u1, v1 = cqx * aqy, cqy * aqx
+    u2, v2 = aqx * bqy, aqy * bqx
+    d0, d1, d2 = u0 - v0, u1 - v1, u2 - v2
+    sure = ((abs(d0) >= CCW_A * (abs(u0) + abs(v0))) & (abs(d1) >= CCW_A * (abs(u1) + abs(v1)))
+            & (abs(d2) >= CCW_A * (abs(u2) + abs(v2))))
+    if not sure:
+        d0, _ = orient2d_staged(bx, by, cx, cy, qx, qy, CCW_A)
+        d1, _ = orient2d_staged(cx, cy, ax, ay, qx, qy, CCW_A)
+        d2, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
+    i, low = 0, d0
+    if d1 < low:
+        i, low = 1, d1
+    if d2 < low:
+        i, low = 2, d2
+    return i if low < 0.0 else -1
 
 
 @njit(cache=True, inline="always")
@@ -199,8 +199,8 @@ def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
     for queries too sparse for the previous answer to be near); -1
     outside.  ``last[k]`` is the last simplex query k's walk visited (where
     an outside query left the hull).  A walk that exceeds its step budget
-    falls back to the brute force.  P and S may be renumbered (a
-    ``walk_frame``): the simplices' rows, and so the answers, stay.
+    falls back to the brute force.  P, S and N may be a ``walk_frame``'s:
+    the answers are then its rows (``order`` maps them back).
 
     The walk is written out in this loop rather than called: an inlined
     function that returns a tuple per query doubled the time
@@ -224,8 +224,7 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
         first = k % (d + 1)
         came, found = -1, -2
         for _ in range(budget):
-            i = _step2(P, S, t, qx, qy, first, came) if d == 2 else _step3(
-                P, S, t, qx, qy, qz, first, came)
+            i = _step2(P, S, t, qx, qy) if d == 2 else _step3(P, S, t, qx, qy, qz, first, came)
             if i < 0:
                 found = t
                 break
@@ -233,13 +232,76 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
             if u < 0:
                 found = -1
                 break
-            came = _slot_of(N, u, t)
+            if d == 3:
+                came = _slot_of(N, u, t)
             t = u
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
         out[k] = found
         last[k] = t
+
+
+@njit(cache=True, nogil=True)
+def walk_frame(P, S, N, perm):
+    """(P2, S2, N2, order): the mesh renumbered for the walk, vertices in
+    the order ``perm`` (a curve over the points: ``grid_order``) and
+    simplices sorted by their lowest new vertex number (a counting sort),
+    so that a walk between neighbouring queries reads neighbouring memory
+    for the corners, the simplices and their neighbours alike.  Simplex r
+    of the new frame is simplex order[r] of the mesh, with the same vertex
+    slots.  On a 1M-point mesh the triangles' own order (the build's) left
+    consecutive rows about a thousand vertices apart, and the walk waited
+    on memory (docs/performance.md, "location frame")."""
+    n = perm.shape[0]
+    m, k1 = S.shape
+    inv = np.empty(n, dtype=S.dtype)  # the narrow dtypes: these arrays are read at random
+    P2 = np.empty((n, P.shape[1]))
+    for i in range(n):
+        v = perm[i]
+        inv[v] = i
+        for a in range(P.shape[1]):
+            P2[i, a] = P[v, a]
+    start = np.zeros(n + 1, dtype=np.int64)
+    S2 = np.empty_like(S)  # first the new vertex numbers in the old rows
+    for t in range(m):
+        low = n
+        for j in range(k1):
+            v = inv[S[t, j]]
+            S2[t, j] = v
+            low = min(low, v)
+        start[low + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    order = np.empty(m, dtype=N.dtype)
+    rank = np.empty(m, dtype=N.dtype)
+    for t in range(m):
+        low = S2[t, 0]
+        for j in range(1, k1):
+            low = min(low, S2[t, j])
+        r = start[low]
+        start[low] = r + 1
+        order[r] = t
+        rank[t] = r
+    S3 = np.empty_like(S)
+    N2 = np.empty_like(N)
+    for t in range(m):  # rows written at random, read in a run
+        r = rank[t]
+        for j in range(k1):
+            S3[r, j] = S2[t, j]
+            u = N[t, j]
+            N2[r, j] = rank[u] if u >= 0 else -1
+    return P2, S3, N2, order
+
+
+@njit(cache=True, nogil=True)
+def unframe(order, out, last):
+    """The answers and last simplices of a walk in a ``walk_frame``, in
+    place, as the mesh's rows (-1 stays)."""
+    for k in range(out.shape[0]):
+        if out[k] >= 0:
+            out[k] = order[out[k]]
+        last[k] = order[last[k]]
 
 
 def jump_sample(queries, simplices):
