@@ -106,14 +106,6 @@ def _contains(P, S, t, qx, qy, qz):
 
 
 @njit(cache=True, inline="always")
-def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """a, b, c, d negatively oriented (q, in one slot, beyond the facet of
-    the other three)."""
-    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
-    return o < 0.0
-
-
-@njit(cache=True, inline="always")
 def _step2(P, S, t, qx, qy):
     """The edge of triangle t that q lies farthest beyond, or -1 (q is in
     t).  The three orientations are evaluated together, each with q as the
@@ -154,40 +146,48 @@ def _step2(P, S, t, qx, qy):
 
 
 @njit(cache=True, inline="always")
-def _step3(P, S, t, qx, qy, qz, first, came):
+def _step3(P, S, t, qx, qy, qz):
     """_step2 for tetrahedra: q lies beyond the facet opposite corner i when
-    the tetrahedron with q in slot i is negatively oriented."""
+    the tetrahedron with q in slot i is negatively oriented.  With q as the
+    origin and A..D the corners minus q, those four orientations are
+    det[B, C, D], -det[A, C, D], det[A, B, D] and -det[A, B, C]: two cross
+    products, C x D and A x B, serve all four, each a triple product of
+    rounded differences as orient3d_staged evaluates it (the same error
+    bound, on the same permanent)."""
     a, b, c, d = S[t, 0], S[t, 1], S[t, 2], S[t, 3]
     ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
     bx, by, bz = P[b, 0], P[b, 1], P[b, 2]
     cx, cy, cz = P[c, 0], P[c, 1], P[c, 2]
     dx, dy, dz = P[d, 0], P[d, 1], P[d, 2]
-    for j in range(4):
-        i = (first + j) & 3
-        if i == came:
-            continue
-        if i == 0:
-            beyond = _flat(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz)
-        elif i == 1:
-            beyond = _flat(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz)
-        elif i == 2:
-            beyond = _flat(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz)
-        else:
-            beyond = _flat(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz)
-        if beyond:
-            return i
-    return -1
-
-
-@njit(cache=True, inline="always")
-def _slot_of(N, u, t):
-    """The slot of u's neighbour t: the facet a step from t into u crossed."""
-    k1 = N.shape[1]
-    if N[u, 0] == t:
-        return 0
-    if N[u, 1] == t:
-        return 1
-    return 2 if k1 == 3 or N[u, 2] == t else 3
+    Ax, Ay, Az, Bx, By, Bz = ax - qx, ay - qy, az - qz, bx - qx, by - qy, bz - qz
+    Cx, Cy, Cz, Dx, Dy, Dz = cx - qx, cy - qy, cz - qz, dx - qx, dy - qy, dz - qz
+    u0, v0, u1, v1, u2, v2 = Cy * Dz, Cz * Dy, Cz * Dx, Cx * Dz, Cx * Dy, Cy * Dx
+    x0, x1, x2 = u0 - v0, u1 - v1, u2 - v2  # C x D
+    p0, p1, p2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+    u0, v0, u1, v1, u2, v2 = Ay * Bz, Az * By, Az * Bx, Ax * Bz, Ax * By, Ay * Bx
+    y0, y1, y2 = u0 - v0, u1 - v1, u2 - v2  # A x B
+    r0, r1, r2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+    d0 = Bx * x0 + By * x1 + Bz * x2
+    d1 = -(Ax * x0 + Ay * x1 + Az * x2)
+    d2 = Dx * y0 + Dy * y1 + Dz * y2
+    d3 = -(Cx * y0 + Cy * y1 + Cz * y2)
+    sure = ((abs(d0) > O3D_A * (abs(Bx) * p0 + abs(By) * p1 + abs(Bz) * p2))
+            & (abs(d1) > O3D_A * (abs(Ax) * p0 + abs(Ay) * p1 + abs(Az) * p2))
+            & (abs(d2) > O3D_A * (abs(Dx) * r0 + abs(Dy) * r1 + abs(Dz) * r2))
+            & (abs(d3) > O3D_A * (abs(Cx) * r0 + abs(Cy) * r1 + abs(Cz) * r2)))
+    if not sure:
+        d0, _ = orient3d_staged(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+        d1, _ = orient3d_staged(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz, O3D_A)
+        d2, _ = orient3d_staged(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz, O3D_A)
+        d3, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz, O3D_A)
+    i, low = 0, d0
+    if d1 < low:
+        i, low = 1, d1
+    if d2 < low:
+        i, low = 2, d2
+    if d3 < low:
+        i, low = 3, d3
+    return i if low < 0.0 else -1
 
 
 @njit(cache=True, nogil=True)
@@ -221,10 +221,9 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
         qx, qy, qz = _query(Q, k)
         if sample > 0:
             t = _nearest_start(P, S, sample, qx, qy, qz, t)
-        first = k % (d + 1)
-        came, found = -1, -2
+        found = -2
         for _ in range(budget):
-            i = _step2(P, S, t, qx, qy) if d == 2 else _step3(P, S, t, qx, qy, qz, first, came)
+            i = _step2(P, S, t, qx, qy) if d == 2 else _step3(P, S, t, qx, qy, qz)
             if i < 0:
                 found = t
                 break
@@ -232,8 +231,6 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
             if u < 0:
                 found = -1
                 break
-            if d == 3:
-                came = _slot_of(N, u, t)
             t = u
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
