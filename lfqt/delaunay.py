@@ -14,9 +14,9 @@ from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
 from .derived import hyperplanes, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
-from .location import (TINY_SHIFT, coherent, grid_order, jump_sample, locate_brute, locate_rational,
-                       locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
-                       tiny_frame_ok, unframe, walk_frame)
+from .location import (TINY_SHIFT, coherent, grid_order, in_frame, jump_sample, locate_brute,
+                       locate_rational, locate_tiny, locate_tolerant, locate_walk, simplex_boxes,
+                       split_queries, tiny_frame_ok, unframe, walk_frame)
 from .triangulation import DegenerateInputError, Triangulation
 from .workers import Workers
 
@@ -384,9 +384,17 @@ class Delaunay:
             raise ValueError("wrong dimensionality in xi")
         shape = xi.shape[:-1]
         q = np.ascontiguousarray(xi.reshape(-1, self.ndim), dtype=np.float64)
+        return self._locate(q, bruteforce, tol).astype(np.intc).reshape(shape)
+
+    def _locate(self, q, bruteforce=False, tol=None):
+        """find_simplex of the (n, ndim) contiguous float64 rows q, as int64
+        (what lfqt.interpolate reads)."""
+        tol = float(tol) if tol is not None and tol > 0 else 0.0
+        if tol == 0 and self._exponent == 0 and in_frame(q, self.min_bound, self.max_bound,
+                                                         self._floor):
+            return self._walk(q, bruteforce)[0]  # q is its own frame: no copy
         # NaN and points outside the bounding box are outside: no predicate.  Q holds the
         # part of each query in the box that the frame holds exactly; tiny marks the rest.
-        tol = float(tol) if tol is not None and tol > 0 else 0.0
         rows, Q, tiny, near = split_queries(q, self.min_bound, self.max_bound, self._scale,
                                             self._floor, tol)
         out, at = self._walk(Q, bruteforce)
@@ -399,7 +407,7 @@ class Delaunay:
             found[rows] = out
         if tol > 0:
             self._locate_tolerant(q, tol, found, rows[out < 0], at[out < 0], near)
-        return found.astype(np.intc).reshape(shape)
+        return found
 
     def _walk(self, Q, bruteforce):
         """(simplex of each row of Q or -1, the last simplex its search

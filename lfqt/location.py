@@ -366,6 +366,21 @@ def split_queries(q, lo, hi, scale, floor, tol):
 
 
 @njit(cache=True, nogil=True)
+def in_frame(q, lo, hi, floor):
+    """True when every row of q lies in the box [lo, hi] (no NaN) with no
+    component below ``floor``: in a frame of scale 1, q is then its own
+    ``split_queries`` (every row, nothing tiny, none near), read once
+    instead of copied."""
+    n, d = q.shape
+    for k in range(n):
+        for a in range(d):
+            v = q[k, a]
+            if not (lo[a] <= v <= hi[a]) or (v != 0.0 and abs(v) < floor):
+                return False
+    return True
+
+
+@njit(cache=True, nogil=True)
 def coherent(Q):
     """True when the rows of Q already follow each other in space (a caller
     sorted them, or they come from a grid): then the walk takes them in the
