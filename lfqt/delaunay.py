@@ -271,11 +271,15 @@ class Delaunay:
     @property
     def convex_hull(self):
         """(nfacets, ndim) int: the hull's edges (2D) or triangles (3D)."""
-        def build():
+        def build():  # a few array writes: on a small mesh numpy's call overhead is the cost
             h = np.asarray(self._tri.hull)
-            if self.ndim == 2:
-                return np.stack((h, np.roll(h, -1)), axis=1).astype(np.intc)
-            return np.ascontiguousarray(h, dtype=np.intc)
+            if self.ndim == 3:
+                return np.ascontiguousarray(h, dtype=np.intc)
+            edges = np.empty((len(h), 2), dtype=np.intc)
+            edges[:, 0] = h
+            edges[:-1, 1] = h[1:]
+            edges[-1:, 1] = h[:1]
+            return edges
         return self._cached("hull", build)
 
     @property

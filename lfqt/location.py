@@ -249,7 +249,7 @@ def walk_frame(P, S, N, perm):
     of the new frame is simplex order[r] of the mesh, with the same vertex
     slots.  On a 1M-point mesh the triangles' own order (the build's) left
     consecutive rows about a thousand vertices apart, and the walk waited
-    on memory (docs/performance.md, "location frame")."""
+    on memory (docs/performance.md, "location step and frame, second pass")."""
     n = perm.shape[0]
     m, k1 = S.shape
     inv = np.empty(n, dtype=S.dtype)  # the narrow dtypes: these arrays are read at random
@@ -371,13 +371,13 @@ def in_frame(q, lo, hi, floor):
     component below ``floor``: in a frame of scale 1, q is then its own
     ``split_queries`` (every row, nothing tiny, none near), read once
     instead of copied."""
-    n, d = q.shape
-    for k in range(n):
-        for a in range(d):
+    ok = True
+    for a in range(q.shape[1]):  # a column at a time, no branch: a pass at memory speed
+        low, high = lo[a], hi[a]
+        for k in range(q.shape[0]):
             v = q[k, a]
-            if not (lo[a] <= v <= hi[a]) or (v != 0.0 and abs(v) < floor):
-                return False
-    return True
+            ok &= (low <= v) & (v <= high) & ((v == 0.0) | (abs(v) >= floor))
+    return ok
 
 
 @njit(cache=True, nogil=True)
