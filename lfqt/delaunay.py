@@ -14,9 +14,9 @@ from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
 from .derived import hyperplanes, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
-from .location import (TINY_SHIFT, coherent, grid_order, jump_sample, locate_brute, locate_rational,
-                       locate_tiny, locate_tolerant, locate_walk, simplex_boxes, split_queries,
-                       tiny_frame_ok)
+from .location import (TINY_SHIFT, coherent, grid_order, in_frame, jump_sample, locate_brute,
+                       locate_rational, locate_tiny, locate_tolerant, locate_walk, simplex_boxes,
+                       split_queries, tiny_frame_ok, unframe, walk_frame)
 from .triangulation import DegenerateInputError, Triangulation
 from .workers import Workers
 
@@ -228,22 +228,21 @@ class Delaunay:
         return self._cached("frame", lambda: self.points * self._scale)
 
     def _walk_frame(self, queries):
-        """(P, S) the walk reads: the frame and the simplices, or, once the
-        queries walked reach a quarter of the points, the vertices renumbered
-        along the curve (``P[perm]``, ``inv[S]``, same simplex rows) so that
-        a walk reads neighbouring memory instead of the input's order: half
-        the walk's time on a 1M mesh (docs/performance.md, "location
-        frame"), for a copy of the points and the simplices."""
+        """(P, S, N, order) the walk reads: the frame and the mesh (order
+        None), or, once the queries walked reach a quarter of the points,
+        the mesh renumbered along the curve (``location.walk_frame``:
+        vertices and simplices, whose rows ``order`` maps back), so that a
+        walk reads neighbouring memory instead of the input's order: about
+        half the walk's time on a 1M mesh (docs/performance.md, "location
+        frame"), for a copy of the points, the simplices and the
+        neighbours."""
         self._located += queries
         if "walk_frame" not in self._cache and 4 * self._located < self.npoints:
-            return self._frame(), self.simplices
+            return self._frame(), self.simplices, self.neighbors, None
 
         def build():
             P = self._frame()
-            perm = grid_order(P)
-            inv = np.empty(len(perm), dtype=self.simplices.dtype)
-            inv[perm] = np.arange(len(perm), dtype=inv.dtype)
-            return np.ascontiguousarray(P[perm]), inv[self.simplices]
+            return walk_frame(P, self.simplices, self.neighbors, grid_order(P))
         return self._cached("walk_frame", build)
 
     def _workers(self):
@@ -272,11 +271,15 @@ class Delaunay:
     @property
     def convex_hull(self):
         """(nfacets, ndim) int: the hull's edges (2D) or triangles (3D)."""
-        def build():
+        def build():  # a few array writes: on a small mesh numpy's call overhead is the cost
             h = np.asarray(self._tri.hull)
-            if self.ndim == 2:
-                return np.stack((h, np.roll(h, -1)), axis=1).astype(np.intc)
-            return np.ascontiguousarray(h, dtype=np.intc)
+            if self.ndim == 3:
+                return np.ascontiguousarray(h, dtype=np.intc)
+            edges = np.empty((len(h), 2), dtype=np.intc)
+            edges[:, 0] = h
+            edges[:-1, 1] = h[1:]
+            edges[-1:, 1] = h[:1]
+            return edges
         return self._cached("hull", build)
 
     @property
@@ -385,9 +388,17 @@ class Delaunay:
             raise ValueError("wrong dimensionality in xi")
         shape = xi.shape[:-1]
         q = np.ascontiguousarray(xi.reshape(-1, self.ndim), dtype=np.float64)
+        return self._locate(q, bruteforce, tol).astype(np.intc).reshape(shape)
+
+    def _locate(self, q, bruteforce=False, tol=None):
+        """find_simplex of the (n, ndim) contiguous float64 rows q, as int64
+        (what lfqt.interpolate reads)."""
+        tol = float(tol) if tol is not None and tol > 0 else 0.0
+        if tol == 0 and self._exponent == 0 and in_frame(q, self.min_bound, self.max_bound,
+                                                         self._floor):
+            return self._walk(q, bruteforce)[0]  # q is its own frame: no copy
         # NaN and points outside the bounding box are outside: no predicate.  Q holds the
         # part of each query in the box that the frame holds exactly; tiny marks the rest.
-        tol = float(tol) if tol is not None and tol > 0 else 0.0
         rows, Q, tiny, near = split_queries(q, self.min_bound, self.max_bound, self._scale,
                                             self._floor, tol)
         out, at = self._walk(Q, bruteforce)
@@ -400,7 +411,7 @@ class Delaunay:
             found[rows] = out
         if tol > 0:
             self._locate_tolerant(q, tol, found, rows[out < 0], at[out < 0], near)
-        return found.astype(np.intc).reshape(shape)
+        return found
 
     def _walk(self, Q, bruteforce):
         """(simplex of each row of Q or -1, the last simplex its search
@@ -408,26 +419,26 @@ class Delaunay:
         out, at = np.empty(len(Q), dtype=np.int64), np.empty(len(Q), dtype=np.int64)
         if len(Q) == 0:
             return out, at
-        N = self.neighbors
-        P, S = (self._frame(), self.simplices) if bruteforce else self._walk_frame(len(Q))
         workers = self._workers() if len(Q) > 4096 else Workers(1)
         chunks = workers.chunks(len(Q), min_chunk=4096)
         if bruteforce:
+            P, S = self._frame(), self.simplices
             B = simplex_boxes(P, S)
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
-        else:
-            jump = jump_sample(len(Q), len(S))
-            if coherent(Q):  # the caller's order is already one along space
-                workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at,
-                                                                  jump))
-                return out, at
-            # the queries gathered in curve order, so that the walks read and write in a run
+            return out, at
+        P, S, N, rows = self._walk_frame(len(Q))
+        jump = jump_sample(len(Q), len(S))
+        if coherent(Q):  # the caller's order is already one along space
+            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at, jump))
+        else:  # the queries gathered in curve order, so that the walks read and write in a run
             order = grid_order(Q)
             Qs, found, last = Q[order], np.empty_like(out), np.empty_like(at)
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
                                                               jump))
             out[order], at[order] = found, last
+        if rows is not None:  # the walk frame's simplices, back to the mesh's rows
+            unframe(rows, out, at)
         return out, at
 
     def _locate_tolerant(self, q, tol, found, rows, start, near):

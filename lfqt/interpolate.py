@@ -181,7 +181,7 @@ class _Interpolator:
         outside the hull one that holds them within scipy's tolerance
         (module docstring), or -1."""
         tri = self.tri
-        found = tri.find_simplex(xi).astype(np.int64)
+        found = tri._locate(xi)  # int64 (find_simplex's intc, not converted twice)
         box = np.abs(tri.max_bound - tri.min_bound) * HULL_EPS
         outside = np.flatnonzero(found < 0)  # few: the box tests run on these rows only
         x = xi[outside]

@@ -106,27 +106,16 @@ def _contains(P, S, t, qx, qy, qz):
 
 
 @njit(cache=True, inline="always")
-def _below(ax, ay, bx, by, qx, qy):
-    """q strictly to the right of the directed edge a -> b (beyond it, for
-    a counter-clockwise triangle)."""
-    o, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
-    return o < 0.0
-
-
-@njit(cache=True, inline="always")
-def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """a, b, c, d negatively oriented (q, in one slot, beyond the facet of
-    the other three)."""
-    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
-    return o < 0.0
-
-
-@njit(cache=True, inline="always")
-def _step2(P, S, t, qx, qy, first, came):
-    """The edge of triangle t that q lies beyond, or -1 (q is in t).  The
-    corners are read once; the edge the walk came through (``came``) is
-    not tested again, q lies beyond it from the other side; ``first``, the
-    edge tried first, varies with the query, so that the walk cannot cycle::
+def _step2(P, S, t, qx, qy):
+    """The edge of triangle t that q lies farthest beyond, or -1 (q is in
+    t).  The three orientations are evaluated together, each with q as the
+    origin (one set of differences), and certified by stage A's bound
+    (``orient2d_staged``); only an uncertain one is decided again,
+    exactly.  No branch per edge: on a large mesh the walk waits on memory
+    and on mispredicted branches, not on arithmetic.  The edge the walk came
+    through is never chosen (q is on its other side, or on it), and on a
+    Delaunay triangulation any choice among the edges q is beyond ends
+    (Edelsbrunner), the farthest one in fewer steps::
 
             c
            / \\        edge i is the one opposite corner i:
@@ -136,58 +125,69 @@ def _step2(P, S, t, qx, qy, first, came):
     """
     a, b, c = S[t, 0], S[t, 1], S[t, 2]
     ax, ay, bx, by, cx, cy = P[a, 0], P[a, 1], P[b, 0], P[b, 1], P[c, 0], P[c, 1]
-    for j in range(3):
-        i = first + j
-        if i >= 3:
-            i -= 3
-        if i == came:
-            continue
-        if i == 0:
-            beyond = _below(bx, by, cx, cy, qx, qy)
-        elif i == 1:
-            beyond = _below(cx, cy, ax, ay, qx, qy)
-        else:
-            beyond = _below(ax, ay, bx, by, qx, qy)
-        if beyond:
-            return i
-    return -1
+    aqx, aqy, bqx, bqy, cqx, cqy = ax - qx, ay - qy, bx - qx, by - qy, cx - qx, cy - qy
+    # orient(b, c, q), orient(c, a, q), orient(a, b, q) as orient2d_staged forms them
+    u0, v0 = bqx * cqy, bqy * cqx
+    u1, v1 = cqx * aqy, cqy * aqx
+    u2, v2 = aqx * bqy, aqy * bqx
+    d0, d1, d2 = u0 - v0, u1 - v1, u2 - v2
+    sure = ((abs(d0) >= CCW_A * (abs(u0) + abs(v0))) & (abs(d1) >= CCW_A * (abs(u1) + abs(v1)))
+            & (abs(d2) >= CCW_A * (abs(u2) + abs(v2))))
+    if not sure:
+        d0, _ = orient2d_staged(bx, by, cx, cy, qx, qy, CCW_A)
+        d1, _ = orient2d_staged(cx, cy, ax, ay, qx, qy, CCW_A)
+        d2, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
+    i, low = 0, d0
+    if d1 < low:
+        i, low = 1, d1
+    if d2 < low:
+        i, low = 2, d2
+    return i if low < 0.0 else -1
 
 
 @njit(cache=True, inline="always")
-def _step3(P, S, t, qx, qy, qz, first, came):
+def _step3(P, S, t, qx, qy, qz):
     """_step2 for tetrahedra: q lies beyond the facet opposite corner i when
-    the tetrahedron with q in slot i is negatively oriented."""
+    the tetrahedron with q in slot i is negatively oriented.  With q as the
+    origin and A..D the corners minus q, those four orientations are
+    det[B, C, D], -det[A, C, D], det[A, B, D] and -det[A, B, C]: two cross
+    products, C x D and A x B, serve all four, each a triple product of
+    rounded differences as orient3d_staged evaluates it (the same error
+    bound, on the same permanent)."""
     a, b, c, d = S[t, 0], S[t, 1], S[t, 2], S[t, 3]
     ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
     bx, by, bz = P[b, 0], P[b, 1], P[b, 2]
     cx, cy, cz = P[c, 0], P[c, 1], P[c, 2]
     dx, dy, dz = P[d, 0], P[d, 1], P[d, 2]
-    for j in range(4):
-        i = (first + j) & 3
-        if i == came:
-            continue
-        if i == 0:
-            beyond = _flat(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz)
-        elif i == 1:
-            beyond = _flat(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz)
-        elif i == 2:
-            beyond = _flat(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz)
-        else:
-            beyond = _flat(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz)
-        if beyond:
-            return i
-    return -1
-
-
-@njit(cache=True, inline="always")
-def _slot_of(N, u, t):
-    """The slot of u's neighbour t: the facet a step from t into u crossed."""
-    k1 = N.shape[1]
-    if N[u, 0] == t:
-        return 0
-    if N[u, 1] == t:
-        return 1
-    return 2 if k1 == 3 or N[u, 2] == t else 3
+    Ax, Ay, Az, Bx, By, Bz = ax - qx, ay - qy, az - qz, bx - qx, by - qy, bz - qz
+    Cx, Cy, Cz, Dx, Dy, Dz = cx - qx, cy - qy, cz - qz, dx - qx, dy - qy, dz - qz
+    u0, v0, u1, v1, u2, v2 = Cy * Dz, Cz * Dy, Cz * Dx, Cx * Dz, Cx * Dy, Cy * Dx
+    x0, x1, x2 = u0 - v0, u1 - v1, u2 - v2  # C x D
+    p0, p1, p2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+    u0, v0, u1, v1, u2, v2 = Ay * Bz, Az * By, Az * Bx, Ax * Bz, Ax * By, Ay * Bx
+    y0, y1, y2 = u0 - v0, u1 - v1, u2 - v2  # A x B
+    r0, r1, r2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+    d0 = Bx * x0 + By * x1 + Bz * x2
+    d1 = -(Ax * x0 + Ay * x1 + Az * x2)
+    d2 = Dx * y0 + Dy * y1 + Dz * y2
+    d3 = -(Cx * y0 + Cy * y1 + Cz * y2)
+    sure = ((abs(d0) > O3D_A * (abs(Bx) * p0 + abs(By) * p1 + abs(Bz) * p2))
+            & (abs(d1) > O3D_A * (abs(Ax) * p0 + abs(Ay) * p1 + abs(Az) * p2))
+            & (abs(d2) > O3D_A * (abs(Dx) * r0 + abs(Dy) * r1 + abs(Dz) * r2))
+            & (abs(d3) > O3D_A * (abs(Cx) * r0 + abs(Cy) * r1 + abs(Cz) * r2)))
+    if not sure:
+        d0, _ = orient3d_staged(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+        d1, _ = orient3d_staged(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz, O3D_A)
+        d2, _ = orient3d_staged(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz, O3D_A)
+        d3, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz, O3D_A)
+    i, low = 0, d0
+    if d1 < low:
+        i, low = 1, d1
+    if d2 < low:
+        i, low = 2, d2
+    if d3 < low:
+        i, low = 3, d3
+    return i if low < 0.0 else -1
 
 
 @njit(cache=True, nogil=True)
@@ -199,8 +199,8 @@ def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
     for queries too sparse for the previous answer to be near); -1
     outside.  ``last[k]`` is the last simplex query k's walk visited (where
     an outside query left the hull).  A walk that exceeds its step budget
-    falls back to the brute force.  P and S may be renumbered (a
-    ``walk_frame``): the simplices' rows, and so the answers, stay.
+    falls back to the brute force.  P, S and N may be a ``walk_frame``'s:
+    the answers are then its rows (``order`` maps them back).
 
     The walk is written out in this loop rather than called: an inlined
     function that returns a tuple per query doubled the time
@@ -221,11 +221,9 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
         qx, qy, qz = _query(Q, k)
         if sample > 0:
             t = _nearest_start(P, S, sample, qx, qy, qz, t)
-        first = k % (d + 1)
-        came, found = -1, -2
+        found = -2
         for _ in range(budget):
-            i = _step2(P, S, t, qx, qy, first, came) if d == 2 else _step3(
-                P, S, t, qx, qy, qz, first, came)
+            i = _step2(P, S, t, qx, qy) if d == 2 else _step3(P, S, t, qx, qy, qz)
             if i < 0:
                 found = t
                 break
@@ -233,13 +231,74 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
             if u < 0:
                 found = -1
                 break
-            came = _slot_of(N, u, t)
             t = u
         if found == -2:
             found = _scan(P, S, qx, qy, qz)
             t = max(found, 0)
         out[k] = found
         last[k] = t
+
+
+@njit(cache=True, nogil=True)
+def walk_frame(P, S, N, perm):
+    """(P2, S2, N2, order): the mesh renumbered for the walk, vertices in
+    the order ``perm`` (a curve over the points: ``grid_order``) and
+    simplices sorted by their lowest new vertex number (a counting sort),
+    so that a walk between neighbouring queries reads neighbouring memory
+    for the corners, the simplices and their neighbours alike.  Simplex r
+    of the new frame is simplex order[r] of the mesh, with the same vertex
+    slots.  On a 1M-point mesh the triangles' own order (the build's) left
+    consecutive rows about a thousand vertices apart, and the walk waited
+    on memory (docs/performance.md, "location step and frame, second pass")."""
+    n = perm.shape[0]
+    m, k1 = S.shape
+    inv = np.empty(n, dtype=S.dtype)  # the narrow dtypes: these arrays are read at random
+    P2 = np.empty((n, P.shape[1]))
+    for i in range(n):
+        v = perm[i]
+        inv[v] = i
+        for a in range(P.shape[1]):
+            P2[i, a] = P[v, a]
+    start = np.zeros(n + 1, dtype=np.int64)
+    S2 = np.empty_like(S)  # first the new vertex numbers in the old rows
+    for t in range(m):
+        low = n
+        for j in range(k1):
+            v = inv[S[t, j]]
+            S2[t, j] = v
+            low = min(low, v)
+        start[low + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    order = np.empty(m, dtype=N.dtype)
+    rank = np.empty(m, dtype=N.dtype)
+    for t in range(m):
+        low = S2[t, 0]
+        for j in range(1, k1):
+            low = min(low, S2[t, j])
+        r = start[low]
+        start[low] = r + 1
+        order[r] = t
+        rank[t] = r
+    S3 = np.empty_like(S)
+    N2 = np.empty_like(N)
+    for t in range(m):  # rows written at random, read in a run
+        r = rank[t]
+        for j in range(k1):
+            S3[r, j] = S2[t, j]
+            u = N[t, j]
+            N2[r, j] = rank[u] if u >= 0 else -1
+    return P2, S3, N2, order
+
+
+@njit(cache=True, nogil=True)
+def unframe(order, out, last):
+    """The answers and last simplices of a walk in a ``walk_frame``, in
+    place, as the mesh's rows (-1 stays)."""
+    for k in range(out.shape[0]):
+        if out[k] >= 0:
+            out[k] = order[out[k]]
+        last[k] = order[last[k]]
 
 
 def jump_sample(queries, simplices):
@@ -304,6 +363,21 @@ def split_queries(q, lo, hi, scale, floor, tol):
             tiny[w] |= small
         w += 1
     return rows[:w], H[:w], tiny[:w], near[:z]
+
+
+@njit(cache=True, nogil=True)
+def in_frame(q, lo, hi, floor):
+    """True when every row of q lies in the box [lo, hi] (no NaN) with no
+    component below ``floor``: in a frame of scale 1, q is then its own
+    ``split_queries`` (every row, nothing tiny, none near), read once
+    instead of copied."""
+    ok = True
+    for a in range(q.shape[1]):  # a column at a time, no branch: a pass at memory speed
+        low, high = lo[a], hi[a]
+        for k in range(q.shape[0]):
+            v = q[k, a]
+            ok &= (low <= v) & (v <= high) & ((v == 0.0) | (abs(v) >= floor))
+    return ok
 
 
 @njit(cache=True, nogil=True)

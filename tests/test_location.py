@@ -201,3 +201,42 @@ def test_tolerance_never_answers_a_simplex_too_flat_for_its_transform(dim):
         T = d.transform[t]
         c = T[:-1] @ (q - T[-1])
         assert (np.r_[c, 1 - c.sum()] >= -1e-6).all()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_walk_frame_is_the_mesh_renumbered(dim, rng):
+    """The walk's frame holds the same simplices, slot for slot, with its
+    vertices in the curve's order and its rows sorted by lowest vertex;
+    its neighbours are the mesh's, renumbered."""
+    pts = rng.random((500, dim))
+    d = _built(pts)
+    perm = location.grid_order(d.points)
+    P, S, N, order = location.walk_frame(d.points, d.simplices, d.neighbors, perm)
+    assert np.array_equal(P, d.points[perm])
+    assert np.array_equal(np.sort(order), np.arange(d.nsimplex))
+    assert np.array_equal(perm[S], d.simplices[order])
+    assert np.all(np.diff(S.min(axis=1)) >= 0)
+    assert np.array_equal(np.where(N < 0, -1, order[np.maximum(N, 0)]), d.neighbors[order])
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_coherent_queries_on_a_grid_mesh_answer_exactly(dim):
+    """Cocircular (cospherical) grid points, walked in the renumbered frame:
+    queries on vertices, on edges and in cells, in row order (coherent,
+    walked as given) and shuffled (sorted first), each answer contains its
+    query and the two orders agree on every query inside a cell."""
+    side = 7 if dim == 2 else 4
+    axes = [np.arange(side, dtype=float)] * dim
+    pts = np.stack([g.ravel() for g in np.meshgrid(*axes, indexing="ij")], axis=1)
+    d = _built(pts)
+    fine = [np.linspace(-0.5, side - 0.5, 3 * side)] * dim
+    qs = np.stack([g.ravel() for g in np.meshgrid(*fine, indexing="ij")], axis=1)
+    assert location.coherent(qs)
+    in_order = d.find_simplex(qs)
+    assert "walk_frame" in d._cache
+    _check(pts, d, qs, in_order)
+    shuffle = np.random.default_rng(1).permutation(len(qs))
+    shuffled = np.empty_like(in_order)
+    shuffled[shuffle] = d.find_simplex(qs[shuffle])
+    _check(pts, d, qs, shuffled)
+    assert np.array_equal(in_order < 0, shuffled < 0)
