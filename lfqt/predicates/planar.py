@@ -61,16 +61,18 @@ def orient2d_staged(ax, ay, bx, by, cx, cy, bound, static=np.inf):
     bcx = bx - cx
     acy = ay - cy
     bcy = by - cy
-    return orient2d_decide(acx * bcy - acy * bcx, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy,
+    return orient2d_decide(acx * bcy - acy * bcx, (acx, acy, bcx, bcy), (ax, ay, bx, by, cx, cy),
                            bound, static)
 
 
 @njit(cache=True, inline="always")
-def orient2d_decide(det, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy, bound, static):
-    """orient2d_staged of a, b, c from ``det``, which the caller computed as
-    ``acx * bcy - acy * bcx`` of the rounded differences ac = a - c and
-    bc = b - c (the merge shares differences and products between
-    predicates, lfqt.dc.merge): the same value and stage."""
+def orient2d_decide(det, diffs, points, bound, static):
+    """orient2d_staged of the points (ax, ay, bx, by, cx, cy) from ``det``,
+    which the caller computed as ``acx * bcy - acy * bcx`` of the rounded
+    differences ``diffs`` = (acx, acy, bcx, bcy), ac = a - c and bc = b - c
+    (the merge shares differences and products between predicates,
+    lfqt.dc.merge): the same value and stage."""
+    acx, acy, bcx, bcy = diffs
     if abs(det) > static:
         return det, 0
     # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
@@ -78,6 +80,7 @@ def orient2d_decide(det, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy, bound, stat
     detsum = abs(acx * bcy) + abs(acy * bcx)
     if abs(det) >= bound * detsum:
         return det, 0
+    ax, ay, bx, by, cx, cy = points
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
 
 
@@ -177,16 +180,17 @@ def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound, static=np.inf):
     clift = cdx * cdx + cdy * cdy
     det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
            + clift * (adxbdy - bdxady))
-    return incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx,
-                           by, cx, cy, dx, dy, bound, static)
+    return incircle_decide(det, (adx, ady, bdx, bdy, cdx, cdy), (alift, blift, clift),
+                           (ax, ay, bx, by, cx, cy, dx, dy), bound, static)
 
 
 @njit(cache=True, inline="always")
-def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx, by, cx,
-                    cy, dx, dy, bound, static):
-    """incircle_staged of a, b, c, d from ``det``, which the caller computed
-    as incircle_staged does from the rounded differences ad = a - d, bd,
-    cd and their lifts (``adx * adx + ady * ady``, ...):
+def incircle_decide(det, diffs, lifts, points, bound, static):
+    """incircle_staged of the points (ax, ay, bx, by, cx, cy, dx, dy) from
+    ``det``, which the caller computed as incircle_staged does from the
+    rounded differences ``diffs`` = (adx, ady, bdx, bdy, cdx, cdy), ad =
+    a - d, bd, cd, and their ``lifts`` (alift = ``adx * adx + ady * ady``,
+    blift, clift):
 
         alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy)
             + clift * (adx * bdy - bdx * ady)
@@ -194,6 +198,8 @@ def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, 
     each product and sum as written, in this order (a cross product may be
     the negation of the one with its factors swapped: that is exact).  The
     same value and stage."""
+    adx, ady, bdx, bdy, cdx, cdy = diffs
+    alift, blift, clift = lifts
     if abs(det) > static:
         return det, 0
     permanent = ((abs(bdx * cdy) + abs(cdx * bdy)) * alift
@@ -201,6 +207,7 @@ def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, 
                  + (abs(adx * bdy) + abs(bdx * ady)) * clift)
     if abs(det) > bound * permanent:
         return det, 0
+    ax, ay, bx, by, cx, cy, dx, dy = points
     return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
 
 
