@@ -88,7 +88,7 @@ def _beyond(P, S, t, i, qx, qy, qz):
     bx, by, bz = _vertex(P, S[t, 1], qx, qy, qz, i == 1)
     cx, cy, cz = _vertex(P, S[t, 2], qx, qy, qz, i == 2)
     dx, dy, dz = _vertex(P, S[t, 3], qx, qy, qz, i == 3)
-    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+    o, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz), O3D_A)
     return o < 0.0
 
 
@@ -117,7 +117,7 @@ def _below(ax, ay, bx, by, qx, qy):
 def _flat(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """a, b, c, d negatively oriented (q, in one slot, beyond the facet of
     the other three)."""
-    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+    o, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz), O3D_A)
     return o < 0.0
 
 

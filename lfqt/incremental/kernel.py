@@ -48,28 +48,18 @@ def _point(P, d, v):
 def _orient_pts(d, a, b, c, e, static):
     """Orientation of the points (_point) a, b, c (2D) or a, b, c, e (3D);
     ``static``: a static filter bound (statics), np.inf for none."""
-    ax, ay, az = a
-    bx, by, bz = b
-    cx, cy, cz = c
-    ex, ey, ez = e
     if d == 2:
-        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A, static)
-    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A, static)
+        return orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], CCW_A, static)
+    return orient3d_staged(a, b, c, e, O3D_A, static)
 
 
 @njit(cache=True, inline="always")
 def _insphere_pts(d, a, b, c, e, p, static):
     """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e
     (points as _point's); ``static`` as in _orient_pts."""
-    ax, ay, az = a
-    bx, by, bz = b
-    cx, cy, cz = c
-    ex, ey, ez = e
-    px, py, pz = p
     if d == 2:
-        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A, static)
-    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A,
-                           static)
+        return incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], p[0], p[1], ICC_A, static)
+    return insphere_staged(a, b, c, e, p, ISP_A, static)
 
 
 @njit(cache=True)
@@ -114,10 +104,10 @@ def _inside_facet_circle(d, a, b, e, p, span):
         qx = ax + span if axis == 0 else ax
         qy = ay + span if axis == 1 else ay
         qz = az + span if axis == 2 else az
-        o, st = orient3d_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz, O3D_A)
+        q = (qx, qy, qz)
+        o, st = orient3d_staged(a, b, e, q, O3D_A)
         if o != 0.0:
-            s, st = insphere_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz,
-                                    px, py, pz, ISP_A)
+            s, st = insphere_staged(a, b, e, q, p, ISP_A)
             return s * o > 0.0
     return False
 
@@ -226,7 +216,7 @@ def _conflicts(P, d, C, y, p, span, static):
     """Does cell y conflict with p: (a finite cell whose circumsphere
     strictly contains p, or an infinite cell with p beyond its hull facet,
     or on its plane and strictly inside its circumcircle; the in-sphere
-    test's deciding stage, -1 for an infinite cell).  Every array read comes
+    test's deciding stage, 0 for an infinite cell, which makes none).  Every array read comes
     before the predicates: an array used after a call that numba does not
     inline keeps its atomic reference count alive."""
     width = d + 1
@@ -244,8 +234,8 @@ def _conflicts(P, d, C, y, p, span, static):
     a, b, e, q = _point(P, d, fa), _point(P, d, fb), _point(P, d, fe), _point(P, d, p)
     o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
     if o != 0.0:
-        return o > 0.0, -1
-    return _inside_facet_circle(d, a, b, e, q, span), -1
+        return o > 0.0, 0
+    return _inside_facet_circle(d, a, b, e, q, span), 0
 
 
 # The faces through p of a new cell with p in slot i, and each face's ridge
@@ -310,8 +300,8 @@ def _new_triangle(C, N, mark, vcell, w, x, i, p):
     opposite its slot i, glued to the triangle outside that edge; its
     slots 1 and 2 are left to the caller (the triangles before and after
     it around p).  _new_cell's 2D case, with p in a fixed slot: _new_cell
-    and the ring glued through slots i + 1, i + 2 measured 4-6% slower
-    (1M 2D cavity, 350-358 -> 372-385 ns/pt)."""
+    and the ring glued through slots i + 1, i + 2 measured slower
+    (docs/performance.md, "2D triangles with p in slot 0")."""
     a = C[u(x), u(i + 1 if i < 2 else 0)]
     b = C[u(x), u(i - 1 if i > 0 else 2)]
     y = N[u(x), u(i)]
@@ -502,7 +492,7 @@ def _cavity(P, d, cells, scratch, c, p, stamp, span, static, pending):
         conflict = False
         if mark[u(y)] != stamp + 1:
             conflict, st = _conflicts(P, d, cells.C, y, p, span, static)
-            if st >= 0:
+            if st > 0:
                 tally(pending, INCIRCLE, st)
         if conflict:
             small = nstack == stack.shape[0] or nconf == conflicts.shape[0]
