@@ -178,8 +178,7 @@ def less(ax, ay, bx, by, axis):
 def before(P, a, b, axis):
     """less for vertices a and b of P, without a branch: where which comes
     first is a coin toss (the merge's extremes), ``less``'s short-circuits
-    mispredict half the time (1M uniform points: merge 151-152 -> 145-149
-    ms; ``less`` itself written without them stayed as fast as before)."""
+    mispredict half the time (docs/performance.md, "branch-free before")."""
     ka, kb = P[u(a), axis], P[u(b), axis]
     ta, tb = P[u(a), 1 - axis], P[u(b), 1 - axis]
     if axis == 1:

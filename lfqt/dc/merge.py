@@ -499,8 +499,9 @@ def _candidate(T, P, counts, B, s, side, base, bounds):
 @njit(cache=True, inline="always")
 def _right_wins(counts, base, left, right, bounds):
     """Whether the right candidate makes the next cross edge when both sides
-    have a valid one: incircle(cl, l, r, cr) = incircle(cl, r, cr, l), from
-    both sides' Rels (_candidate) and Vertexes ``left``, ``right``."""
+    have a valid one: incircle(cl, l, r, cr) = incircle(cl, r, cr, l).
+    ``left`` and ``right``: each side's candidate (a Vertex) and its Rel
+    (_candidate), whose differences, lifts and cross products it reuses."""
     ul, ur = left[1], right[1]
     cl, cr = left[0], right[0]
     det = ul.lift * ur.k + base.lift * (ur.ux * ul.uy - ul.ux * ur.uy) + ur.lift * -ul.k

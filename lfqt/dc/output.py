@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from ..indexing import borrow, prefetch, u
-from .layout import GHOST, edge, slot, tri, twin
+from .layout import GHOST, edge, inner, ring_ghost, slot, tail, twin
 from .subdivide import DUP
 
 
@@ -80,13 +80,13 @@ def fill_holes(T, codes, start, m, copies):
     k = 0
     g = start
     while True:  # seal the hull; the ghosts below m are holes
-        T[twin(T[slot(g, 3)])] = -1
+        T[twin(inner(T, g))] = -1
         if g < m:
             if k == holes.shape[0]:
                 return False
             holes[k] = g
             k += 1
-        g = tri(T[slot(g, 5)])
+        g = ring_ghost(T, g, 1)
         if g == start:
             break
     if copies:
@@ -211,14 +211,14 @@ def hull_loop(T, start_ghost, perm, index_sample):
     g = start_ghost
     while True:
         count += 1
-        g = tri(T[slot(g, 5)])
+        g = ring_ghost(T, g, 1)
         if g == start_ghost:
             break
     out = np.empty(count, dtype=index_sample.dtype)
     g = start_ghost
     for i in range(count):
-        out[i] = perm[T[slot(g, 1)]]
-        g = tri(T[slot(g, 5)])
+        out[i] = perm[tail(T, g)]
+        g = ring_ghost(T, g, 1)
     return out
 
 
