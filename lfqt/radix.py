@@ -321,7 +321,7 @@ def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, bit, in_buf, leaf):
         if b - a > leaf:
             # the highest bit that varies (-1: all keys equal), found by
             # top_bit's one cheap pass, not by counting the constant digits
-            # (sign and exponent, 26 ms each at 10M)
+            # (sign and exponent: docs/performance.md, "top bit")
             h = min(h, top_bit(src_k, src_k[u(a)], a, b))
             if h >= 0:
                 shift = digit_shift(h)

@@ -24,8 +24,7 @@ result never coexist (peak memory, lfqt.dc._output):
 3. ``move_rows``: the later chunks' rows slide down behind them, in chunk
    order, each below what is still to move; the result keeps T's range of
    rows, and the pages around it go back to the system (lfqt.workspace).
-   At 10M points on 2 threads the move cost 9.4 ms that meeting in place
-   saves.
+   Meeting in place saves a move (docs/performance.md, "output rows").
 """
 import numpy as np
 from numba import njit
@@ -36,9 +35,9 @@ from .subdivide import DUP
 
 
 # Morton order scatters the input indices: gather_points asks for the point
-# AHEAD positions on before it reads it (1M: 9-17 -> 6-11 ms on a VM).  A
-# random permutation, one thread: 1M 3.8 ms from 32 to 256; 10M 152 ms at
-# 32, 128-131 ms from 64 to 256 (memory's latency needs more in flight).
+# AHEAD positions on before it reads it; memory's latency needs enough reads
+# in flight, and more than 64 gained nothing (docs/performance.md, "gather
+# ahead").
 AHEAD = 64
 
 

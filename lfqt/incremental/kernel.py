@@ -631,7 +631,7 @@ def _grown(cells, size):
     m = C.shape[0]
     C2, N2, mark2 = _records(np.empty(_record_shape(size, C.shape[1]), dtype=np.int32), C.shape[1])
     # entry by entry: a slice assignment (C2[:m] = C) compiles numba's
-    # shape-mismatch error path, 2.8 s of a first call with a cold cache
+    # shape-mismatch error path (docs/performance.md, "row copies")
     for c in range(m):
         for k in range(C.shape[1]):
             C2[c, k] = C[c, k]
@@ -697,8 +697,9 @@ def _start(P, d, s, cells):
 def relabel(perm, hint, store):
     """Renumber perm and hint, in place, by the points' places in ``store``
     (rank[store[k]] = k), the numbering insert_all's points come in; a hint
-    of -1 stays -1.  One pass each, where numpy's scatter, gathers and
-    where took 12 ns per point (1M), and no new arrays but the ranks."""
+    of -1 stays -1.  One pass each, and no new arrays but the ranks, where
+    numpy's scatter, gathers and where made several (docs/performance.md,
+    "relabel")."""
     _relabel(perm, hint, store, np.empty(len(store), dtype=store.dtype))
 
 
@@ -734,10 +735,9 @@ def coordinate_span(P, largest=None):
 
 def huge_pages(d):
     """Whether the cells and the output of an insertion in d dimensions go
-    on transparent huge pages (lfqt.pages): in 2D, yes (1M points: a call
-    runs 0.6 s, 5% faster than on small pages, back to back); in 3D, not
-    where the host takes free pages back, which fresh huge pages then fault
-    on (1M points: 4.6 s a call on huge pages, 3.9 s on small ones)."""
+    on transparent huge pages (lfqt.pages): in 2D, yes, fewer TLB misses; in
+    3D, not where the host takes free pages back, which fresh huge pages
+    then fault on (docs/performance.md, "insertion's pages")."""
     return d == 2 or not pages.host_takes_free_pages()
 
 
@@ -750,13 +750,14 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     ``capacity``: the cells to start with (CELLS_PER_POINT per point by
     default).  ``timing``: count the cycles of the walks and of the cavities
     (counts' LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter
-    per point, 34 ns in all on a VM whose counter costs 11 ns).
+    per point, which cost a few percent of a 2D insertion:
+    docs/performance.md, "phase cycles").
 
     The arrays of a size in points or cells come from lfqt.workspace, here,
     not from the kernel, on transparent huge pages where they pay
     (huge_pages), where numba's allocations would fault in 4 KB at a time
-    (14k faults, 35 ms, for the cells of 1M points in 2D, on every call),
-    and on the mappings of earlier calls' freed results where there are."""
+    on every call (docs/performance.md, "insertion's pages"), and on the
+    mappings of earlier calls' freed results where there are."""
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     huge = huge_pages(d)
@@ -861,8 +862,7 @@ def _finite_bitmap(C, mark):
     ones, the finite cells before each word of 64, and the counts.  One
     pass over the records, without a branch: a cell is finite when no
     vertex is INF (-1), that is, when the OR of its vertices is not
-    negative (1M points, 3D: 90 ms for the marks and the bits in two
-    passes, with a test per vertex; 30 ms so)."""
+    negative (docs/performance.md, "finite bitmap")."""
     m = C.shape[0]
     width = C.shape[1]
     nwords = (m + 63) >> 6
