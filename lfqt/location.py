@@ -88,7 +88,7 @@ def _beyond(P, S, t, i, qx, qy, qz):
     bx, by, bz = _vertex(P, S[t, 1], qx, qy, qz, i == 1)
     cx, cy, cz = _vertex(P, S[t, 2], qx, qy, qz, i == 2)
     dx, dy, dz = _vertex(P, S[t, 3], qx, qy, qz, i == 3)
-    o, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
+    o, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz), O3D_A)
     return o < 0.0
 
 
@@ -176,10 +176,10 @@ def _step3(P, S, t, qx, qy, qz):
             & (abs(d2) > O3D_A * (abs(Dx) * r0 + abs(Dy) * r1 + abs(Dz) * r2))
             & (abs(d3) > O3D_A * (abs(Cx) * r0 + abs(Cy) * r1 + abs(Cz) * r2)))
     if not sure:
-        d0, _ = orient3d_staged(qx, qy, qz, bx, by, bz, cx, cy, cz, dx, dy, dz, O3D_A)
-        d1, _ = orient3d_staged(ax, ay, az, qx, qy, qz, cx, cy, cz, dx, dy, dz, O3D_A)
-        d2, _ = orient3d_staged(ax, ay, az, bx, by, bz, qx, qy, qz, dx, dy, dz, O3D_A)
-        d3, _ = orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz, O3D_A)
+        d0, _ = orient3d_staged((qx, qy, qz), (bx, by, bz), (cx, cy, cz), (dx, dy, dz), O3D_A)
+        d1, _ = orient3d_staged((ax, ay, az), (qx, qy, qz), (cx, cy, cz), (dx, dy, dz), O3D_A)
+        d2, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (qx, qy, qz), (dx, dy, dz), O3D_A)
+        d3, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (cx, cy, cz), (qx, qy, qz), O3D_A)
     i, low = 0, d0
     if d1 < low:
         i, low = 1, d1

@@ -168,9 +168,9 @@ def _conflict(P, S, t, q):
                                q[0], q[1], ICC_A)
         return s > 0.0
     a, b, c, d = S[t, 0], S[t, 1], S[t, 2], S[t, 3]
-    s, _ = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                           P[c, 0], P[c, 1], P[c, 2], P[d, 0], P[d, 1], P[d, 2],
-                           q[0], q[1], q[2], ISP_A)
+    s, _ = insphere_staged((P[a, 0], P[a, 1], P[a, 2]), (P[b, 0], P[b, 1], P[b, 2]),
+                           (P[c, 0], P[c, 1], P[c, 2]), (P[d, 0], P[d, 1], P[d, 2]),
+                           (q[0], q[1], q[2]), ISP_A)
     return s > 0.0
 
 
@@ -464,8 +464,8 @@ def _weights3(P, S, N, q, t, iw, w, C):
 def _orient3(P, a, b, c, p):
     """The exact sign of orient3d(a, b, c, p) for vertices a, b, c and the
     point p (three floats)."""
-    o, _ = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                           P[c, 0], P[c, 1], P[c, 2], p[0], p[1], p[2], O3D_A)
+    o, _ = orient3d_staged((P[a, 0], P[a, 1], P[a, 2]), (P[b, 0], P[b, 1], P[b, 2]),
+                           (P[c, 0], P[c, 1], P[c, 2]), (p[0], p[1], p[2]), O3D_A)
     return o
 
 

@@ -98,15 +98,17 @@ def radix_passes(keys, perm, lo, hi, key_buf, perm_buf, digits=8):
         return 0
     counts = np.zeros((8, 256), dtype=np.int64)
     histograms(keys, lo, hi, counts, digits)
-    return _lsd(keys, perm, key_buf, perm_buf, lo, hi, counts, keys[u(lo)], 0, digits, 0)
+    return _lsd(keys, perm, (key_buf, perm_buf), lo, hi, counts, keys[u(lo)], 0, digits, 0)
 
 
 @njit(cache=True, nogil=True)
-def _lsd(keys, perm, key_buf, perm_buf, lo, hi, counts, first, d_lo, d_hi, done):
+def _lsd(keys, perm, scratch, lo, hi, counts, first, d_lo, d_hi, done):
     """Scatter passes of [lo, hi) by each digit d_lo <= d < d_hi that varies
-    (counts: histograms, first: any key of the range), after ``done``
-    passes (their parity tells which array holds the range).  Returns the
-    passes, ``done`` included."""
+    (counts: histograms, first: any key of the range), between keys, perm
+    and ``scratch`` = (key_buf, perm_buf), after ``done`` passes (their
+    parity tells which pair holds the range).  Returns the passes, ``done``
+    included."""
+    key_buf, perm_buf = scratch
     offsets = np.empty(256, dtype=np.int64)
     src_k, src_p, dst_k, dst_p = keys, perm, key_buf, perm_buf
     if done % 2 == 1:
@@ -175,7 +177,7 @@ def leaf_passes(keys, perm, lo, hi, key_buf, perm_buf, digits):
         for b in range(256):
             seen += counts[low, b] != 0
         reach *= seen
-    passes = _lsd(keys, perm, key_buf, perm_buf, lo, hi, counts, first, low, digits, 0)
+    passes = _lsd(keys, perm, (key_buf, perm_buf), lo, hi, counts, first, low, digits, 0)
     if low == 0:
         return passes
     src_k, src_p = (key_buf, perm_buf) if passes % 2 == 1 else (keys, perm)
@@ -183,7 +185,7 @@ def leaf_passes(keys, perm, lo, hi, key_buf, perm_buf, digits):
         return passes
     counts[:low] = 0
     histograms(src_k, lo, hi, counts, low)
-    return _lsd(keys, perm, key_buf, perm_buf, lo, hi, counts, first, 0, digits, passes)
+    return _lsd(keys, perm, (key_buf, perm_buf), lo, hi, counts, first, 0, digits, passes)
 
 
 @njit(cache=True, nogil=True)
@@ -319,7 +321,7 @@ def msd_sort_range(keys, perm, lo, hi, key_buf, perm_buf, bit, in_buf, leaf):
         if b - a > leaf:
             # the highest bit that varies (-1: all keys equal), found by
             # top_bit's one cheap pass, not by counting the constant digits
-            # (sign and exponent, 26 ms each at 10M)
+            # (sign and exponent: docs/performance.md, "top bit")
             h = min(h, top_bit(src_k, src_k[u(a)], a, b))
             if h >= 0:
                 shift = digit_shift(h)

@@ -29,6 +29,7 @@ positive orientation, because a reversed simplex there is a bug of lfqt.
 """
 from __future__ import annotations
 
+from collections import namedtuple
 from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
@@ -175,13 +176,24 @@ def _cmp(a, b):
     return 1 if a > b else (-1 if a < b else 0)
 
 
+@njit(cache=True, inline="always")
+def _pt3(P, v):
+    """Point v of a 3D P as the (x, y, z) the spatial predicates take."""
+    return P[v, 0], P[v, 1], P[v, 2]
+
+
+# What _check_mesh finds in a 2D mesh: counts of each fault, the first
+# triangle at fault, and the boundary (its edge count, a start vertex, and
+# each vertex's outgoing boundary edge).
+MeshFaults = namedtuple("MeshFaults", "bad_neighbors duplicate_directed boundary_with_reverse "
+                        "boundary_not_single_loop reflex_turns winding not_delaunay "
+                        "first_bad_triangle n_boundary loop_start out_next")
+
+
 @njit(cache=True)
 def _check_mesh(xs, ys, simplices, neighbors, n):
     """The structure and the in-circle tests of triangles whose orientation
-    ``_orientations`` has checked.  Returns (bad_neighbors,
-    duplicate_directed, boundary_with_reverse, boundary_not_single_loop,
-    reflex_turns, winding, not_delaunay, first_bad_triangle, n_boundary,
-    loop_start, out_next)."""
+    ``_orientations`` has checked: their MeshFaults."""
     m = simplices.shape[0]
     cnt = np.zeros(N_PREDICATE, dtype=np.int64)
     first_bad = -1
@@ -278,8 +290,8 @@ def _check_mesh(xs, ys, simplices, neighbors, n):
                     not_delaunay += 1
                     if first_bad < 0:
                         first_bad = t
-    return (bad_nb, dup_directed, boundary_rev, loop_fail, reflex, winding, not_delaunay,
-            first_bad, n_boundary, start, out_next)
+    return MeshFaults(bad_nb, dup_directed, boundary_rev, loop_fail, reflex, winding,
+                      not_delaunay, first_bad, n_boundary, start, out_next)
 
 
 @njit(cache=True)
@@ -326,9 +338,8 @@ def _check_cells3(P, simplices, neighbors):
                     first = t
             elif u > t:
                 e = apex
-                s_, st = insphere_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                         P[c, 0], P[c, 1], P[c, 2], P[d, 0], P[d, 1], P[d, 2],
-                                         P[e, 0], P[e, 1], P[e, 2], ISP_A)
+                s_, st = insphere_staged(_pt3(P, a), _pt3(P, b), _pt3(P, c), _pt3(P, d),
+                                         _pt3(P, e), ISP_A)
                 if s_ > 0.0:
                     not_delaunay += 1
                     if first < 0:
@@ -352,8 +363,7 @@ def _reflex_hull_edges(P, faces, edge_face, edge_other):
                 q = v
         if q < 0:
             continue
-        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2], O3D_A)
+        o, st = orient3d_staged(_pt3(P, a), _pt3(P, b), _pt3(P, c), _pt3(P, q), O3D_A)
         if o > 0.0:
             bad += 1
     return bad
@@ -392,8 +402,7 @@ def _orientations3(P, simplices):
     out = np.empty(simplices.shape[0], dtype=np.int8)
     for t in range(simplices.shape[0]):
         a, b, c, d = simplices[t, 0], simplices[t, 1], simplices[t, 2], simplices[t, 3]
-        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[c, 0], P[c, 1], P[c, 2], P[d, 0], P[d, 1], P[d, 2], O3D_A)
+        o, st = orient3d_staged(_pt3(P, a), _pt3(P, b), _pt3(P, c), _pt3(P, d), O3D_A)
         out[t] = 1 if o > 0.0 else (-1 if o < 0.0 else 0)
     return out
 
@@ -420,8 +429,7 @@ def _all_coplanar(P, ids):
         return True  # collinear
     for k in range(ids.shape[0]):
         i = ids[k]
-        o, st = orient3d_staged(P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[c, 0], P[c, 1], P[c, 2], P[i, 0], P[i, 1], P[i, 2], O3D_A)
+        o, st = orient3d_staged(_pt3(P, a), _pt3(P, b), _pt3(P, c), _pt3(P, i), O3D_A)
         if o != 0.0:
             return False
     return True
@@ -548,7 +556,7 @@ def _bare_simplices(value, width):
 
 def _shape_problems(P, mesh, problems):
     """Every array's shape and index range, checked before anything reads
-    through them: the validated (simplices, neighbors, duplicate_of, hull,
+    through them: the validated Arrays (simplices, neighbors, duplicate_of, hull,
     facets), or None for the arrays that are not given or not integers."""
     n, width = len(P), P.shape[1] + 1
     simplices = _int_array(mesh.simplices, "simplices", problems)
@@ -576,7 +584,7 @@ def _shape_problems(P, mesh, problems):
     for arr, name in ((hull, "hull"), (facets, "convex_hull")):
         if arr is not None and arr.size and (arr.min() < 0 or arr.max() >= n):
             problems.append(f"{name} holds vertex indices outside [0, {n})")
-    return simplices, neighbors, dup, hull, facets
+    return Arrays(simplices, neighbors, dup, hull, facets)
 
 
 def _inferred_duplicates(P, simplices):
@@ -599,14 +607,20 @@ def _inferred_duplicates(P, simplices):
     return dup
 
 
+# A mesh's arrays as read and checked (_shape_problems).
+Arrays = namedtuple("Arrays", "simplices neighbors dup hull facets")
+# What _start hands the structural checks.
+Start = namedtuple("Start", "run simplices neighbors dup distinct")
+
+
 def _start(P, mesh, strict):
     """Checks shared by 2D and 3D, before the structure: shapes and index
     ranges, orientation, duplicate_of.  Unless ``strict``, reversed
     simplices are turned around here (two vertices swapped, and their
     neighbours with them), so that the structural checks see one
     orientation.  ``mesh.hull`` and ``mesh.facets`` become their
-    validated arrays.  Returns (run, simplices, neighbors, dup, distinct);
-    simplices is None when the arrays cannot be read through."""
+    validated arrays.  Returns a Start; its simplices are None when the
+    arrays cannot be read through."""
     n, dim = P.shape
     kind, nouns, reversed_name, lacks = _KIND[dim]
     run = _Run()
@@ -616,7 +630,7 @@ def _start(P, mesh, strict):
     run.counts.update({kind: int(len(simplices)) if simplices is not None else 0,
                        "points": int(n)})
     if run.problems:
-        return run, None, None, None, None
+        return Start(run, None, None, None, None)
     signs = (_orientations2 if dim == 2 else _orientations3)(P, simplices)
     rev, flat = int(np.count_nonzero(signs < 0)), int(np.count_nonzero(signs == 0))
     bad = signs <= 0 if strict else signs == 0
@@ -650,7 +664,7 @@ def _start(P, mesh, strict):
               "duplicate_of maps a row to a different point or to a non-representative")
     distinct = np.flatnonzero(dup == np.arange(n))
     run.counts["duplicates"] = int(n - len(distinct))
-    return run, simplices, neighbors, dup, distinct
+    return Start(run, simplices, neighbors, dup, distinct)
 
 
 def _check_points_used(simplices, dup, distinct, run):

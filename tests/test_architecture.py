@@ -1,6 +1,7 @@
 """The architecture's rules, checked on the source: the library never imports
 the harness, no package has an import cycle, no library function is longer
-than 150 lines."""
+than 150 lines, takes more than 10 arguments or returns a tuple of more than
+4 (a kernel's state travels as a small named record instead)."""
 import ast
 from pathlib import Path
 
@@ -115,3 +116,53 @@ def test_the_report_holds_no_threshold():
     compared = [ast.unparse(n) for n in ast.walk(tree) if isinstance(n, ast.Compare)
                 and any(number(x) for x in [n.left, *n.comparators])]
     assert not fractions and not compared
+
+
+MAX_ARGUMENTS = 10
+MAX_RETURNED = 4
+def _functions():
+    for p in sorted((ROOT / "lfqt").rglob("*.py")):
+        for node in ast.walk(ast.parse(p.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield str(p.relative_to(ROOT)), node
+
+
+def _arguments(node):
+    a = node.args
+    return (len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + (a.vararg is not None)
+            + (a.kwarg is not None))
+
+
+def _returned(node):
+    """The largest tuple a return statement of ``node`` (not of a function
+    nested in it) writes out."""
+    def walk(n):
+        for child in ast.iter_child_nodes(n):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+                continue
+            yield child
+            yield from walk(child)
+    return max((len(r.value.elts) for r in walk(node)
+                if isinstance(r, ast.Return) and isinstance(r.value, ast.Tuple)), default=0)
+
+
+def test_the_rule_counts_arguments_and_returned_tuples():
+    node = ast.parse("def f(a, b, *c, d=1, **e):\n    def g():\n        return 1, 2, 3, 4, 5\n"
+                     "    return a, b\n").body[0]
+    assert _arguments(node) == 5
+    assert _returned(node) == 2
+
+
+def _breaking():
+    return {(path, node.name): (_arguments(node), _returned(node)) for path, node in _functions()
+            if _arguments(node) > MAX_ARGUMENTS or _returned(node) > MAX_RETURNED}
+
+
+def test_no_library_function_takes_more_than_10_arguments():
+    many = {k: v[0] for k, v in _breaking().items() if v[0] > MAX_ARGUMENTS }
+    assert not many
+
+
+def test_no_library_function_returns_a_tuple_of_more_than_4():
+    wide = {k: v[1] for k, v in _breaking().items() if v[1] > MAX_RETURNED }
+    assert not wide

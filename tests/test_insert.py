@@ -205,9 +205,9 @@ def test_kdtree_counts_match_paper_two(rng):
 
 
 def _insphere(pts, cell, p):
-    a, b, c, d = (pts[v] for v in cell)
-    o, _ = P.orient3d_staged(*a, *b, *c, *d, P.O3D_A)
-    s, _ = P.insphere_staged(*a, *b, *c, *d, *p, P.ISP_A)
+    a, b, c, d = (tuple(map(float, pts[v])) for v in cell)
+    o, _ = P.orient3d_staged(a, b, c, d, P.O3D_A)
+    s, _ = P.insphere_staged(a, b, c, d, tuple(map(float, p)), P.ISP_A)
     return s * np.sign(o)
 
 

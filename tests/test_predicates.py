@@ -167,7 +167,7 @@ def test_incircle_exactly_cocircular_beyond_the_integer_path():
 
 def test_incircle_rounded_circle_decided_before_the_exact_stage():
     # gDel2D's circle: four neighbours on a circle rounded to doubles are
-    # decided by stage B (double-double) or its C1 step, with the exact sign.
+    # decided by stage 2 (double-double) or stage 3's C1 step, with the exact sign.
     rng = np.random.default_rng(3)
     for _ in range(200):
         t = np.sort(rng.random(4)) * 0.01 + rng.random() * 6.0
@@ -266,9 +266,10 @@ point3 = st.tuples(coords, coords, coords)
 @given(st.one_of(near_sphere(), st.tuples(point3, point3, point3, point3, point3)))
 def test_insphere_matches_fractions(pts):
     pts = _right_handed(pts)
-    got, stage = P.insphere_staged(*[c for p in pts for c in p], P.ISP_A)
+    w = [tuple(map(float, p)) for p in pts]
+    got, stage = P.insphere_staged(*w, P.ISP_A)
     assert sign(got) == insphere_ref(*pts)
-    assert sign(P.insphere_exact(*[c for p in pts for c in p])) == insphere_ref(*pts)
+    assert sign(P.insphere_exact(*w)) == insphere_ref(*pts)
 
 
 @given(st.one_of(near_sphere(), st.tuples(point3, point3, point3, point3, point3)))
@@ -278,7 +279,7 @@ def test_insphere_double_double_within_its_bound(pts):
     diffs = [tuple(p[k] - e[k] for k in range(3)) for p in pts[:4]]
     det, perm = _insphere_diffs_ref([tuple(map(Fraction, r)) for r in diffs])
     assume(spatial.DD_FLOOR <= perm <= spatial.DD_CEIL)
-    got = Fraction(spatial._insphere_dd(*[c for r in diffs for c in r]))
+    got = Fraction(spatial._insphere_dd(*[tuple(map(float, r)) for r in diffs]))
     assert abs(got - det) <= Fraction(spatial.ISP_DD_DERIVED) * perm + Fraction(EPS) * abs(got)
     assert spatial.ISP_DD * (1 - 16 * EPS) > spatial.ISP_DD_DERIVED * (1 + 2 * EPS)
     assert spatial.ISP_C * (1 - 16 * EPS) > spatial.ISP_C_DERIVED * (1 + 2 * EPS)
@@ -297,15 +298,15 @@ def test_insphere_with_tails_within_its_bound(pts):
     det = _insphere_diffs_ref(exact_rows)[0]
     perm = _insphere_diffs_ref([tuple(map(Fraction, r)) for r in rounded])[1]
     assume(spatial.DD_FLOOR <= perm <= spatial.DD_CEIL)
-    args = [c for r in rounded for c in r]
+    args = [tuple(map(float, r)) for r in rounded]
     got = Fraction(spatial._insphere_dd(*args)) + Fraction(
-        spatial._insphere_tails(*args, *[c for t in tails for c in t]))
+        spatial._insphere_tails(*args, *tails))
     assert abs(got - det) <= Fraction(spatial.ISP_C_DERIVED) * perm + 2 * Fraction(EPS) * abs(got)
 
 
 def test_insphere_rounded_sphere_decided_before_the_expansions():
     # points on a sphere around the origin, rounded to doubles: the stage-1
-    # filter fails on nearly all; stage 1 decides them, with the exact sign
+    # filter fails on nearly all; stage 2 decides them, with the exact sign
     rng = np.random.default_rng(5)
     stages = []
     for _ in range(300):
@@ -317,11 +318,12 @@ def test_insphere_rounded_sphere_decided_before_the_expansions():
             continue
         if o < 0:
             pts[0], pts[1] = pts[1], pts[0]
-        got, stage = P.insphere_staged(*[c for p in pts for c in p], P.ISP_A)
+        got, stage = P.insphere_staged(*pts, P.ISP_A)
         assert sign(got) == insphere_ref(*pts)
         stages.append(stage)
-    assert stages.count(0) < len(stages) // 2  # the float filter fails on most
-    assert stages.count(2) <= len(stages) // 50  # the expansions are rare
+    assert set(stages) <= {1, 2, 3}
+    assert stages.count(1) < len(stages) // 2  # the float filter fails on most
+    assert stages.count(3) <= len(stages) // 50  # the expansions are rare
 
 
 @given(point, point, point, point)
@@ -356,11 +358,25 @@ def test_counters_count_calls_and_undecided():
 
 def test_tally_undecided_counts_the_stages_alone():
     cnt = P.new_counters()
-    C.tally_undecided(cnt, C.INCIRCLE, 1)
     C.tally_undecided(cnt, C.INCIRCLE, 2)
-    C.tally_undecided(cnt, C.ORIENT, 1)
-    C.tally_undecided(cnt, C.ORIENT, 0)  # decided by stage 1: not counted here
+    C.tally_undecided(cnt, C.INCIRCLE, 3)
+    C.tally_undecided(cnt, C.ORIENT, 2)
+    C.tally_undecided(cnt, C.ORIENT, 1)  # decided by stage 1: not counted here
     assert list(cnt[:6]) == [0, 1, 0, 0, 2, 1]  # calls are the caller's to count
+
+
+def test_the_stages_are_numbered_1_2_3():
+    # one numbering in the return values and the counters: stage 1 decides
+    # an easy call, stage 2 an exactly collinear one with exact differences,
+    # stage 3 (exact) one whose differences round
+    cnt = P.new_counters()
+    assert P.orient2d_staged(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, P.CCW_A)[1] == 1
+    assert P.orient2d_staged(0.0, 0.0, 1.0, 1.0, 2.0, 2.0, P.CCW_A)[1] == 2
+    tiny = 2.0 ** -60
+    v, stage = P.orient2d_staged(0.1, 0.1, 0.3, 0.3 + tiny, 1e10, 1e10, P.CCW_A)
+    assert stage == 3
+    C.tally(cnt, C.ORIENT, stage)
+    assert list(cnt[:3]) == [1, 1, 1]  # undecided by stages 1 and 2
 
 
 def _level_of(points, dtype):
@@ -495,15 +511,13 @@ def _with_and_without_static3(pts):
     for k in range(3):
         w[k] = pts[:, k].max() - pts[:, k].min()
     so, si = P.static_bounds3(w[0], w[1], w[2], P.O3D_A, P.ISP_A)
-    a, b, c, d, e = pts[0], pts[1], pts[2], pts[3], pts[4]
-    o1 = P.orient3d_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
-                           d[2], P.O3D_A)
-    o2 = P.orient3d_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
-                           d[2], P.O3D_A, so)
-    i1 = P.insphere_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
-                           d[2], e[0], e[1], e[2], P.ISP_A)
-    i2 = P.insphere_staged(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1],
-                           d[2], e[0], e[1], e[2], P.ISP_A, si)
+    a, b, c = (pts[0, 0], pts[0, 1], pts[0, 2]), (pts[1, 0], pts[1, 1], pts[1, 2]), \
+        (pts[2, 0], pts[2, 1], pts[2, 2])
+    d, e = (pts[3, 0], pts[3, 1], pts[3, 2]), (pts[4, 0], pts[4, 1], pts[4, 2])
+    o1 = P.orient3d_staged(a, b, c, d, P.O3D_A)
+    o2 = P.orient3d_staged(a, b, c, d, P.O3D_A, so)
+    i1 = P.insphere_staged(a, b, c, d, e, P.ISP_A)
+    i2 = P.insphere_staged(a, b, c, d, e, P.ISP_A, si)
     return o1, o2, i1, i2
 
 
@@ -573,5 +587,5 @@ def test_subnormal_sets_are_exact_once_in_the_window(ints, e):
         w = [tuple(map(float, p)) for p in exact_points3(np.array(pts, dtype=np.float64))]
     except ValueError:  # all zero, or too far apart
         assume(False)
-    assert sign(P.orient3d_exact(*w[0], *w[1], *w[2], *w[3])) == orient3d_ref(*pts[:4])
-    assert sign(P.insphere_exact(*w[0], *w[1], *w[2], *w[3], *w[4])) == insphere_ref(*pts)
+    assert sign(P.orient3d_exact(*w[:4])) == orient3d_ref(*pts[:4])
+    assert sign(P.insphere_exact(*w)) == insphere_ref(*pts)

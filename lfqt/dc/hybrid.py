@@ -28,7 +28,8 @@ from .. import orders
 from ..incremental import kernel as insertion
 from ..indexing import u
 from ..predicates.counters import N_PREDICATE
-from .layout import GHOST, SMALL, XMAX, XMIN, YMAX, YMIN, before, edge, slot
+from .layout import (GHOST, SMALL, XMAX, XMIN, YMAX, YMIN, before, edge, slot,
+                     tail)
 from .subdivide import run_starts
 
 ORDERS = ("hilbert", "kdtree")
@@ -64,7 +65,7 @@ def fill_bin(C, N, mark, ids, slots, P, T, ghost_out, part):
             v = C[c, (i + rot[c]) % 3]
             T[slot(t, i)] = GHOST if v < 0 else ids[v]
         if T[slot(t, 2)] == GHOST:  # ghost (a, b, GHOST): hull edge b -> a leaves b
-            ghost_out[u(T[slot(t, 1)])] = t
+            ghost_out[u(tail(T, t))] = t
     for c in range(m):
         t = tslot[c]
         if t < 0:

@@ -99,6 +99,50 @@ def twin(e):
     return origin(e) + np.uint64(3)
 
 
+# A ghost g = (w, v, GHOST) stands for the hull edge v -> w (ghost_out[v] = g)::
+#
+#          inside
+#      v ---------> w          slot 0: w, the edge's head; slot 1: v, its tail
+#       \   g     /           twin 3 (across w -> v): the real triangle's v -> w
+#        \       /            twin 4 (across v -> GHOST): the ghost before g
+#          GHOST               twin 5 (across GHOST -> w): the ghost after g
+#
+# "before" and "after" run counter-clockwise around the hull.  The helpers
+# below name these reads.
+
+
+@njit(cache=True, inline="always")
+def head(T, g):
+    """The head w of ghost g's hull edge v -> w."""
+    return T[slot(g, 0)]
+
+
+@njit(cache=True, inline="always")
+def tail(T, g):
+    """The tail v of ghost g's hull edge v -> w."""
+    return T[slot(g, 1)]
+
+
+@njit(cache=True, inline="always")
+def inner(T, g):
+    """The half-edge v -> w of the real triangle across ghost g's hull edge."""
+    return T[slot(g, 3)]
+
+
+@njit(cache=True, inline="always")
+def ring_edge(T, g, ccw):
+    """The half-edge of the ghost before g (ccw = 0: the ghost of the hull
+    edge into g's tail) or after it (ccw = 1: of the edge out of its head)
+    that is g's twin."""
+    return T[slot(g, 4 + ccw)]
+
+
+@njit(cache=True, inline="always")
+def ring_ghost(T, g, ccw):
+    """The ghost before g (ccw = 0) or after it (ccw = 1) on the hull."""
+    return tri(ring_edge(T, g, ccw))
+
+
 @njit(cache=True, inline="always")
 def link(T, t, i, b):
     """Make edge i of triangle t and the half-edge b each other's twin.
@@ -134,8 +178,7 @@ def less(ax, ay, bx, by, axis):
 def before(P, a, b, axis):
     """less for vertices a and b of P, without a branch: where which comes
     first is a coin toss (the merge's extremes), ``less``'s short-circuits
-    mispredict half the time (1M uniform points: merge 151-152 -> 145-149
-    ms; ``less`` itself written without them stayed as fast as before)."""
+    mispredict half the time (docs/performance.md, "branch-free before")."""
     ka, kb = P[u(a), axis], P[u(b), axis]
     ta, tb = P[u(a), 1 - axis], P[u(b), 1 - axis]
     if axis == 1:

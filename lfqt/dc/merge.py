@@ -18,7 +18,14 @@ built directly, without the steps above (``run_ops``' base cases).
 
 Predicates are staged (lfqt.predicates) with the stage-1 bound of the merge's
 quad-tree level, and counted in ``counts`` (lfqt.predicates.counters).
+
+The state the merge carries from step to step is a few small named tuples
+(``Vertex``, ``Walk``, ``Side``, ``Base``, ``Rel``, ``Bounds``): numba passes
+a tuple by value, so that once the helpers are inlined every field is a
+register, as separate scalars were, while the names say what each is.
 """
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
@@ -27,9 +34,29 @@ from ..predicates.counters import INCIRCLE, ORIENT, tally_undecided
 from ..predicates.levels import binade, level_bounds
 from ..predicates.planar import (CCW_A, ICC_A, incircle_decide, incircle_staged, orient2d_decide,
                                  orient2d_staged, static_bounds)
-from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, before, link,
-                     link_edges, nxt, origin, prv, set_triangle, slot, tri, twin)
+from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, before, head, inner,
+                     link, link_edges, nxt, origin, prv, ring_edge, ring_ghost, set_triangle,
+                     tail, tri, twin)
 from .subdivide import ALT_X
+
+# A vertex and its coordinates, loaded once and kept in registers.
+Vertex = namedtuple("Vertex", "id x y")
+# One end of the base during the tangent walk: the ghost g at that end (< 0:
+# a lone vertex), and the vertex ``ahead`` (a Vertex) that the walk would move
+# the end to, with the ghost h it would then be at.
+Walk = namedtuple("Walk", "g ahead h")
+# One side of the rising bubble: its ghost g next to A (B when the side's hull
+# is used up), its candidate c and the vertex x beyond g's hull edge (Vertexes;
+# x.id is GHOST where that is a ghost too).
+Side = namedtuple("Side", "g c x")
+# The base l -> r (Vertexes), its difference (bx, by) = r - l and its lift.
+Base = namedtuple("Base", "l r bx by lift")
+# A candidate c relative to the base: u = c - l, its lift |u|^2 and the cross
+# product k = b x u (lfqt.dc.merge._candidate).
+Rel = namedtuple("Rel", "ux uy lift k")
+# A merge's stage-1 bounds: dynamic and static (lfqt.predicates.planar), of
+# orient and of in-circle.
+Bounds = namedtuple("Bounds", "ccw ccw_static icc icc_static")
 
 
 @njit(cache=True, inline="always")
@@ -38,6 +65,27 @@ def _orient(P, a, b, c, bound, static):
     stage that decided it."""
     return orient2d_staged(P[u(a), 0], P[u(a), 1], P[u(b), 0], P[u(b), 1], P[u(c), 0],
                            P[u(c), 1], bound, static)
+
+
+@njit(cache=True, inline="always")
+def _vertex(P, v):
+    """Vertex v with its coordinates."""
+    return Vertex(np.int64(v), P[u(v), 0], P[u(v), 1])
+
+
+@njit(cache=True, inline="always")
+def _nowhere():
+    """The Vertex of no vertex: GHOST, zeros for coordinates."""
+    return Vertex(np.int64(GHOST), 0.0, 0.0)
+
+
+@njit(cache=True, inline="always")
+def splits_x(code):
+    """Whether the merge of code ``code`` (lfqt.dc.subdivide) joins a left
+    and a right partition (else a lower and an upper one): the LFQT's codes
+    are levels, odd on an x split; the alternating ablation writes ALT_X or
+    ALT_Y."""
+    return code == ALT_X if code >= ALT_X else (code & 1) == 1
 
 
 @njit(cache=True, inline="always")
@@ -65,7 +113,7 @@ def _splice_side(T, A, B, g, s):
     if g < 0:
         link_edges(T, A, 2 - s, B, 1 + s)
     else:
-        link(T, A, 2 - s, T[slot(g, 5 - s)])
+        link(T, A, 2 - s, ring_edge(T, g, 1 - s))
         link_edges(T, B, 1 + s, g, 2 - s)
 
 
@@ -98,16 +146,17 @@ def _join(T, G, H):
 
 
 @njit(cache=True, inline="always")
-def _wrap3(T, ghost_out, x0, x1, x2, R0, i0, R1, i1, R2, i2, G0, G1, G2):
-    """A hull of three vertices x0, x1, x2 (counter-clockwise) wrapped in
-    the ghosts G0, G1, G2 of its edges x0 -> x1 (edge i0 of the real
-    triangle R0), x1 -> x2 (i1 of R1) and x2 -> x0 (i2 of R2)."""
-    _ghost(T, ghost_out, G0, x0, x1, R0, i0)
-    _ghost(T, ghost_out, G1, x1, x2, R1, i1)
-    _ghost(T, ghost_out, G2, x2, x0, R2, i2)
-    _join(T, G2, G0)
-    _join(T, G0, G1)
-    _join(T, G1, G2)
+def _wrap3(T, ghost_out, x, inside, G):
+    """A hull of three vertices x = (x0, x1, x2) (counter-clockwise) wrapped
+    in the ghosts G = (G0, G1, G2) of its edges x0 -> x1, x1 -> x2 and
+    x2 -> x0; ``inside`` holds the (real triangle, edge) of each of these
+    edges."""
+    _ghost(T, ghost_out, G[0], x[0], x[1], inside[0][0], inside[0][1])
+    _ghost(T, ghost_out, G[1], x[1], x[2], inside[1][0], inside[1][1])
+    _ghost(T, ghost_out, G[2], x[2], x[0], inside[2][0], inside[2][1])
+    _join(T, G[2], G[0])
+    _join(T, G[0], G[1])
+    _join(T, G[1], G[2])
 
 
 @njit(cache=True, inline="always")
@@ -122,14 +171,14 @@ def _triangle_of_three(T, ghost_out, p, q, v, R, G0, G1, G2):
                 G0
     """
     set_triangle(T, R, p, q, v)
-    _wrap3(T, ghost_out, p, q, v, R, 0, R, 1, R, 2, G0, G1, G2)
+    _wrap3(T, ghost_out, (p, q, v), ((R, 0), (R, 1), (R, 2)), (G0, G1, G2))
 
 
 @njit(cache=True, inline="always")
-def _fan(T, ghost_out, x0, x1, x2, c, R0, R1, R2, G0, G1, G2):
+def _fan(T, ghost_out, x0, x1, x2, c, R, G):
     """Four points, c inside the triangle (x0, x1, x2) (counter-clockwise):
-    the three triangles around c, wrapped in the ghosts G0, G1, G2 of the
-    hull edges x0 -> x1, x1 -> x2, x2 -> x0::
+    the three triangles R = (R0, R1, R2) around c, wrapped in the ghosts
+    G = (G0, G1, G2) of the hull edges x0 -> x1, x1 -> x2, x2 -> x0::
 
                   x2
                  / | \\
@@ -139,21 +188,22 @@ def _fan(T, ghost_out, x0, x1, x2, c, R0, R1, R2, G0, G1, G2):
              x0 --------- x1
                    R0
     """
+    R0, R1, R2 = R
     set_triangle(T, R0, x0, x1, c)
     set_triangle(T, R1, x1, x2, c)
     set_triangle(T, R2, x2, x0, c)
     link_edges(T, R0, 1, R1, 2)
     link_edges(T, R1, 1, R2, 2)
     link_edges(T, R2, 1, R0, 2)
-    _wrap3(T, ghost_out, x0, x1, x2, R0, 0, R1, 0, R2, 0, G0, G1, G2)
+    _wrap3(T, ghost_out, (x0, x1, x2), ((R0, 0), (R1, 0), (R2, 0)), G)
 
 
 @njit(cache=True, inline="always")
-def _quad(T, ghost_out, h0, h1, h2, h3, R0, R1, G0, G1, G2, G3):
+def _quad(T, ghost_out, h0, h1, h2, h3, R, G):
     """Four points in convex position, h0 ... h3 counter-clockwise: the
-    triangles R0 = (h0, h1, h2) and R1 = (h2, h3, h0) on the diagonal
-    h0-h2, wrapped in the ghosts G0 ... G3 of the hull edges h0 -> h1 ...
-    h3 -> h0::
+    triangles R = (R0, R1), R0 = (h0, h1, h2) and R1 = (h2, h3, h0), on the
+    diagonal h0-h2, wrapped in the ghosts G = (G0, ..., G3) of the hull
+    edges h0 -> h1 ... h3 -> h0::
 
             h3 ------ h2
              |  R1  / |
@@ -161,6 +211,8 @@ def _quad(T, ghost_out, h0, h1, h2, h3, R0, R1, G0, G1, G2, G3):
              |  /  R0 |
             h0 ------ h1
     """
+    R0, R1 = R
+    G0, G1, G2, G3 = G
     set_triangle(T, R0, h0, h1, h2)
     set_triangle(T, R1, h2, h3, h0)
     link_edges(T, R0, 2, R1, 2)
@@ -175,10 +227,11 @@ def _quad(T, ghost_out, h0, h1, h2, h3, R0, R1, G0, G1, G2, G3):
 
 
 @njit(cache=True)
-def _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5):
+def _four(T, P, counts, ghost_out, x, y, z, v, slots):
     """The base case of four points: the triangle (x, y, z), counter-
-    clockwise, and a fourth point v, triangulated in the six slots s0 ... s5
-    their partitions held.  Returns (done, orient calls, in-circle calls);
+    clockwise, and a fourth point v, triangulated in the six triangle slots
+    ``slots`` their partitions held.  Returns (done, orient calls, in-circle
+    calls);
     nothing is written when a triple is collinear (done False: the general
     merge takes over).
 
@@ -187,11 +240,10 @@ def _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5):
     and an in-circle test picks the diagonal; of two, their common vertex is
     inside the triangle of the other three and v (a fan around it).
 
-    Called, not inlined, with one call of each builder: the first call's
-    compile takes 21.5 s against 18.6 s without this base case, and took
-    47 s with it inlined into every merge, two calls of each builder in
-    each of its two call sites.  Base cases of four points are a tenth of
-    the merges."""
+    Called, not inlined, with one call of each builder: inlined into every
+    merge, with two calls of each builder, it more than doubled the first
+    call's compile time (docs/performance.md, "four-point base case"), and
+    base cases of four points are only a tenth of the merges."""
     o1, st = _orient(P, x, y, v, CCW_A, np.inf)
     tally_undecided(counts, ORIENT, st)
     o2, st = _orient(P, y, z, v, CCW_A, np.inf)
@@ -214,7 +266,8 @@ def _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5):
         tally_undecided(counts, INCIRCLE, st)
         # v in the circle through x, y, z: the diagonal v-z, else x-y
         h0, h1, h2, h3 = (v, y, z, x) if ic > 0.0 else (y, z, x, v)
-        _quad(T, ghost_out, h0, h1, h2, h3, s0, s1, s2, s3, s4, s5)
+        _quad(T, ghost_out, h0, h1, h2, h3, (slots[0], slots[1]),
+              (slots[2], slots[3], slots[4], slots[5]))
         return True, 3, 1
     if seen == 2:  # rotate the vertex between the two edges v sees to y: the centre
         if n2 and n3:
@@ -222,7 +275,8 @@ def _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5):
         elif n3 and n1:
             x, y, z = z, x, y
         x, y, z, v = x, v, z, y
-    _fan(T, ghost_out, x, y, z, v, s0, s1, s2, s3, s4, s5)  # v, the centre
+    _fan(T, ghost_out, x, y, z, v, (slots[0], slots[1], slots[2]),
+         (slots[3], slots[4], slots[5]))  # v, the centre
     return True, 3, 0
 
 
@@ -242,10 +296,10 @@ def _flip_ghost(T, g, e, x):
     tt = tri(e)
     t_px = T[twin(nxt(e))]  # twin of p -> x
     t_xq = T[twin(prv(e))]  # twin of x -> q
-    g1 = T[slot(g, 4)]
-    g2 = T[slot(g, 5)]
-    set_triangle(T, tt, x, T[slot(g, 1)], GHOST)
-    set_triangle(T, g, T[slot(g, 0)], x, GHOST)
+    g1 = ring_edge(T, g, 0)
+    g2 = ring_edge(T, g, 1)
+    set_triangle(T, tt, x, tail(T, g), GHOST)
+    set_triangle(T, g, head(T, g), x, GHOST)
     link(T, tt, 0, t_xq)
     link(T, tt, 1, g1)
     link_edges(T, tt, 2, g, 1)
@@ -266,8 +320,8 @@ def _cross_edge(T, A, g, l, r, c, s):
           |  A = (l, r, GHOST) => /   \\  g = (l, c, GHOST)
         l ----> r               l ----> r   (A = (l, r, c))
     """
-    g0 = T[slot(g, 3)]
-    a = T[slot(A, 4 + s)]
+    g0 = inner(T, g)
+    a = ring_edge(T, A, s)
     set_triangle(T, A, l, r, c)
     link_edges(T, A, 1 + s, g, 0)
     link(T, A, 2 - s, g0)
@@ -275,7 +329,7 @@ def _cross_edge(T, A, g, l, r, c, s):
 
 
 @njit(cache=True, inline="always")
-def _bounds(P, code, probe, fmt, level_filter):
+def _dynamic_bounds(P, code, probe, fmt, level_filter):
     """Stage-1 bounds (orient, in-circle) of a merge: the level's, probed at
     one point of the node, or Triangle's constants."""
     if code >= ALT_X or not level_filter:
@@ -283,6 +337,15 @@ def _bounds(P, code, probe, fmt, level_filter):
     ex = binade(P[u(probe), 0], fmt[4], fmt[3])
     ey = binade(P[u(probe), 1], fmt[4], fmt[3])
     return level_bounds(code, fmt[0], fmt[1], fmt[2], ex, ey)
+
+
+@njit(cache=True, inline="always")
+def _bounds(P, parts, lt, rt, code, fmt, level_filter):
+    """The Bounds of the merge of partitions lt and rt."""
+    ccw, icc = _dynamic_bounds(P, code, parts[lt, XMIN], fmt, level_filter)
+    wx, wy = _box(P, parts, lt, rt)
+    ccw_static, icc_static = static_bounds(wx, wy, ccw, icc)
+    return Bounds(ccw, ccw_static, icc, icc_static)
 
 
 @njit(cache=True, inline="always")
@@ -317,67 +380,71 @@ def _union_extremes(P, parts, lt, rt, x_split, small):
 
 @njit(cache=True, inline="always")
 def _ahead(T, P, g, s):
-    """The vertex the tangent walk of side s would move to from ghost g
-    (g >= 0), with its coordinates, and the ghost it would then be at."""
-    c = T[slot(g, 1 - s)]
-    return c, P[u(c), 0], P[u(c), 1], tri(T[slot(g, 4 + s)])
+    """The Walk of side s's end at ghost g (g >= 0): the walk of side 0
+    (l) runs clockwise along the hull, to g's tail, side 1's (r) counter-
+    clockwise, to its head."""
+    c = tail(T, g) if s == 0 else head(T, g)
+    return Walk(np.int64(g), _vertex(P, c), ring_ghost(T, g, s))
 
 
 @njit(cache=True, inline="always")
-def _walk(T, P, counts, l, lx, ly, r, rx, ry, g, c, cx, cy, h, s, ccwb, ccws):
-    """One step of side s's end of the base l -> r (coordinates lx ... ry)
-    toward the lower common tangent, g being the ghost at that end (< 0: a
-    lone vertex, no test) and (c, cx, cy, h) = _ahead(g): (moved, the end
-    and its coordinates, g, c, cx, cy, h after the step, whether it made an
-    orient test; an undecided stage 1 goes to ``counts``).  The next step's
-    vertex is loaded before this step's test decides."""
-    end, ex, ey = (l, lx, ly) if s == 0 else (r, rx, ry)
-    if g < 0:
-        return False, end, ex, ey, g, c, cx, cy, h, False
-    nc, ncx, ncy, nh = _ahead(T, P, h, s)
-    o, st = orient2d_staged(lx, ly, rx, ry, cx, cy, ccwb, ccws)
+def _no_walk():
+    """The Walk of a lone vertex: no ghost, nothing ahead."""
+    return Walk(np.int64(-1), _nowhere(), np.int64(-1))
+
+
+@njit(cache=True, inline="always")
+def _walk(T, P, counts, l, r, w, s, bounds):
+    """One step of side s's end of the base l -> r (Vertexes) toward the
+    lower common tangent, from that end's Walk w (w.g < 0: a lone vertex, no
+    test): (moved, the end, its Walk, whether it made an orient test; an
+    undecided stage 1 goes to ``counts``).  The next step's vertex is loaded
+    before this step's test decides."""
+    end = l if s == 0 else r
+    if w.g < 0:
+        return False, end, w, False
+    then = _ahead(T, P, w.h, s)
+    c = w.ahead
+    o, st = orient2d_staged(l.x, l.y, r.x, r.y, c.x, c.y, bounds.ccw, bounds.ccw_static)
     tally_undecided(counts, ORIENT, st)
     if o < 0.0:
-        return True, c, cx, cy, h, nc, ncx, ncy, nh, True
-    return False, end, ex, ey, g, c, cx, cy, h, True
+        return True, c, then, True
+    return False, end, w, True
 
 
 @njit(cache=True, inline="always")
 def _beyond(T, P, g):
-    """The vertex across ghost g's hull edge, in the real triangle there,
-    and its coordinates (GHOST and zeros where that is a ghost too)."""
-    x = T[origin(prv(T[slot(g, 3)]))]
+    """The Vertex across ghost g's hull edge, in the real triangle there
+    (_nowhere where that is a ghost too)."""
+    x = T[origin(prv(inner(T, g)))]
     if x == GHOST:
-        return x, 0.0, 0.0
-    return x, P[u(x), 0], P[u(x), 1]
+        return _nowhere()
+    return _vertex(P, x)
 
 
 @njit(cache=True, inline="always")
 def _side(T, P, A, B, s):
-    """Side s's state next to the ghost A: (its ghost g, the candidate c
-    and its coordinates, the vertex x beyond and its coordinates); g == B
-    when the side's hull is used up (then nothing else is meaningful)."""
-    g = tri(T[slot(A, 5 - s)])
+    """Side s's Side next to the ghost A; its ghost is B when the side's
+    hull is used up (then nothing else in it is meaningful).  Side 0's
+    candidate is the head of its ghost's hull edge, side 1's the tail."""
+    g = ring_ghost(T, A, 1 - s)
     if g == B:
-        return g, -1, 0.0, 0.0, GHOST, 0.0, 0.0
-    c = T[slot(g, s)]
-    x, xx, xy = _beyond(T, P, g)
-    return g, c, P[u(c), 0], P[u(c), 1], x, xx, xy
+        return Side(g, _nowhere(), _nowhere())
+    c = head(T, g) if s == 0 else tail(T, g)
+    return Side(g, _vertex(P, c), _beyond(T, P, g))
 
 
 @njit(cache=True, inline="always")
-def _candidate(T, P, counts, B, s, g, c, cx, cy, x, xx, xy, lx, ly, rx, ry, bx, by, blift, ccwb,
-               ccws, iccb, iccs):
-    """Side s's candidate above the base l -> r (coordinates lx ... ry),
-    from the side's state (_side): (valid, the state after it, the
-    candidate's difference to l, its lift and its cross product with the
-    base's, orient calls, in-circle calls; the calls stage 1 left undecided
-    go to ``counts``).  Edges to the candidate whose next neighbour lies in
-    the circle through l, r and it are deleted on the way.
+def _candidate(T, P, counts, B, s, side, base, bounds):
+    """Side s's candidate above the base (a Base) from the side's state (a
+    Side, _side): (valid, the Side after it, the candidate's Rel, (orient
+    calls, in-circle calls)); the calls stage 1 left undecided go to
+    ``counts``.  Edges to the candidate whose next neighbour lies in the
+    circle through l, r and it are deleted on the way.
 
     Every predicate subtracts l, so that what a test computes serves the
     next (lfqt.predicates.planar's *_decide take the products as computed):
-    with b = r - l (bx, by; its lift blift), u = c - l and v = x - l::
+    with b = r - l (its lift |b|^2), u = c - l and v = x - l::
 
         orient(l, r, c)       = orient(r, c, l)        = b x u
         incircle(l, r, c, x)  = -incircle(r, c, x, l)
@@ -385,44 +452,65 @@ def _candidate(T, P, counts, B, s, g, c, cx, cy, x, xx, xy, lx, ly, rx, ry, bx, 
 
     b x u is the orient test's, |u|^2 and v's terms become u's when x
     becomes the candidate, and run_ops' choice between the sides reuses
-    both sides' u, |u|^2 and b x u: a third of an in-circle test's
-    arithmetic, and two thirds of the choice's (1M uniform, 3 interleaved
-    series of 11 calls: the same predicate counts, merge 121.0-123.3 ->
-    115.7-117.3 ms)."""
+    both sides' u, |u|^2 and b x u (the Rel): a third of an in-circle test's
+    arithmetic, and two thirds of the choice's (docs/performance.md,
+    "shared differences")."""
+    g, c, x = side
+    l, r = base.l, base.r
+    bx, by, blift = base.bx, base.by, base.lift
     ok = False
     n_o = n_i = 0
     ux = uy = lift = k = 0.0
     if g != B:  # else the side's hull is used up
-        ux = cx - lx
-        uy = cy - ly
+        ux = c.x - l.x
+        uy = c.y - l.y
         k = bx * uy - by * ux
-        o, st = orient2d_decide(k, bx, by, ux, uy, rx, ry, cx, cy, lx, ly, ccwb, ccws)
+        o, st = orient2d_decide(k, (bx, by, ux, uy), (r.x, r.y, c.x, c.y, l.x, l.y),
+                                bounds.ccw, bounds.ccw_static)
         n_o = 1
         tally_undecided(counts, ORIENT, st)
         ok = o > 0.0
         lift = ux * ux + uy * uy
-        while ok and x != GHOST:  # delete edges to c while the next one is in its circle
-            vx = xx - lx
-            vy = xy - ly
+        while ok and x.id != GHOST:  # delete edges to c while the next one is in its circle
+            vx = x.x - l.x
+            vy = x.y - l.y
             vlift = vx * vx + vy * vy
             bv = bx * vy - by * vx
             det = blift * (ux * vy - vx * uy) + lift * -bv + vlift * k
-            ic, st = incircle_decide(det, bx, by, ux, uy, vx, vy, blift, lift, vlift, rx, ry, cx,
-                                     cy, xx, xy, lx, ly, iccb, iccs)
+            ic, st = incircle_decide(det, (bx, by, ux, uy, vx, vy), (blift, lift, vlift),
+                                     (r.x, r.y, c.x, c.y, x.x, x.y, l.x, l.y),
+                                     bounds.icc, bounds.icc_static)
             n_i += 1
             tally_undecided(counts, INCIRCLE, st)
             if ic >= 0.0:  # incircle(l, r, c, x) <= 0: x is not inside
                 break
-            tt = _flip_ghost(T, g, T[slot(g, 3)], x)
+            tt = _flip_ghost(T, g, inner(T, g), x.id)
             if s == 0:
                 g = tt
             # x was strictly inside the circle through l, r and c, beyond the
             # deleted edge from the base: strictly above the base, valid
             # without an orient test (as in Triangle's merge).
-            c, cx, cy = x, xx, xy
+            c = x
             ux, uy, lift, k = vx, vy, vlift, bv
-            x, xx, xy = _beyond(T, P, g)
-    return ok, g, c, cx, cy, x, xx, xy, ux, uy, lift, k, n_o, n_i
+            x = _beyond(T, P, g)
+    return ok, Side(g, c, x), Rel(ux, uy, lift, k), (n_o, n_i)
+
+
+@njit(cache=True, inline="always")
+def _right_wins(counts, base, left, right, bounds):
+    """Whether the right candidate makes the next cross edge when both sides
+    have a valid one: incircle(cl, l, r, cr) = incircle(cl, r, cr, l).
+    ``left`` and ``right``: each side's candidate (a Vertex) and its Rel
+    (_candidate), whose differences, lifts and cross products it reuses."""
+    ul, ur = left[1], right[1]
+    cl, cr = left[0], right[0]
+    det = ul.lift * ur.k + base.lift * (ur.ux * ul.uy - ul.ux * ur.uy) + ur.lift * -ul.k
+    ic, st = incircle_decide(det, (ul.ux, ul.uy, base.bx, base.by, ur.ux, ur.uy),
+                             (ul.lift, base.lift, ur.lift),
+                             (cl.x, cl.y, base.r.x, base.r.y, cr.x, cr.y, base.l.x, base.l.y),
+                             bounds.icc, bounds.icc_static)
+    tally_undecided(counts, INCIRCLE, st)
+    return ic > 0.0
 
 
 @njit(cache=True, inline="always")
@@ -432,8 +520,9 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
     result's SMALL, orient calls, in-circle calls).
 
     Two lone vertices make an edge, a lone vertex and such an edge a
-    triangle (one orient test where the merge makes four; 1M uniform: 158
-    -> 151 ms): 54% of all merges on uniform points.  Four points, two edges
+    triangle (one orient test where the general merge makes four; see
+    docs/performance.md, "small base cases"): 54% of all merges on uniform
+    points.  Four points, two edges
     or a lone vertex and a triangle (another tenth), come from three or four
     orient tests and at most one in-circle test (_four).  Where three of the
     points are collinear the general merge takes over."""
@@ -469,20 +558,20 @@ def _base_case(T, P, counts, ghost_out, parts, lt, rt, l, r, A):
     else:  # the triangle's vertices, counter-clockwise along its ghosts
         x = parts[side, XMIN]
         s1 = ghost_out[u(x)]
-        y = T[slot(s1, 0)]
+        y = head(T, s1)
         s2 = ghost_out[u(y)]
-        z = T[slot(s2, 0)]
+        z = head(T, s2)
         s3 = ghost_out[u(z)]
-        s0 = tri(T[slot(s1, 3)])  # the real triangle, across the ghost's edge
-    built, oc, ic = _four(T, P, counts, ghost_out, x, y, z, v, s0, s1, s2, s3, A, A + 1)
+        s0 = tri(inner(T, s1))  # the real triangle, across the ghost's edge
+    built, oc, ic = _four(T, P, counts, ghost_out, x, y, z, v, (s0, s1, s2, s3, A, A + 1))
     return built, 0, tested + oc, ic
 
 
 @njit(cache=True, inline="always")
 def _copy_row(dst, i, src, j):
     """dst[i] = src[j] for partition rows, entry by entry: a row assignment
-    compiles numba's shape-mismatch error path, 1.6 s of the first call's
-    25.6 s (a cold cache)."""
+    compiles numba's shape-mismatch error path, a noticeable part of the
+    first call with a cold cache (docs/performance.md, "row copies")."""
     for k in range(PART):
         dst[i, k] = src[j, k]
 
@@ -498,13 +587,12 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
 
     Each side (0: left, next to l; 1: right, next to r) runs ``_walk``
     (the tangent) and ``_candidate`` (the bubble) with a literal side, so
-    that both get code specialised for them (a loop over the side, which
-    LLVM does not unroll, cost 10-28% of the merge).  An inlined helper
-    that loops would pay two atomic reference counts per array per call
-    (half the run time), so it gets borrowed views of the arrays
-    (lfqt.indexing.borrow), which cost none; so does ``_base_case``, which
-    does not loop but runs for every merge (its reference counts on
-    ghost_out and the partition stack: 1M uniform, merge +8 ms).
+    that both get code specialised for them: LLVM does not unroll a loop
+    over the side.  An inlined helper that loops would pay two atomic
+    reference counts per array per call, so it gets borrowed views of the
+    arrays (lfqt.indexing.borrow), which cost none; so does ``_base_case``,
+    which does not loop but runs for every merge (docs/performance.md,
+    "borrowed views").
     """
     P, T, ghost_out, fmt, level_filter = mesh
     P, T, counts, ghost_out = borrow(P), borrow(T), borrow(counts), borrow(ghost_out)
@@ -512,8 +600,9 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     parts = borrow(stack)  # the views are for the inlined helpers (see above)
     # (stack is used once more at the end: numba frees an array after its
     # last use, and a borrowed view does not keep it alive)
-    # Call counts and each side's state live in scalars, not in small arrays:
-    # the stores to T may alias any array, which would cost reloads.  The
+    # Call counts and each side's state live in scalars and tuples, not in
+    # small arrays: the stores to T may alias any array, which would cost
+    # reloads.  The
     # calls stage 1 leaves undecided are rare and counted in ``counts`` on a
     # branch: as four more scalars they cost registers in every step
     # (docs/performance.md, "merge counters").
@@ -531,9 +620,9 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             parts[u(top), SMALL] = 1
             continue
         # unsigned rows: numba checks a signed index for wraparound at every
-        # access (1M uniform: merge 117.5-117.7 -> 114.3-114.7 ms)
+        # access (docs/performance.md, "unsigned rows")
         lt, rt, code = u(top - 1), u(top), np.int64(codes[u(op)])
-        x_split = code == ALT_X if code >= ALT_X else (code & 1) == 1
+        x_split = splits_x(code)
         l = parts[lt, XMAX if x_split else YMAX]  # the base l -> r
         r = parts[rt, XMIN if x_split else YMIN]
         A = 2 * (op - 1)  # the merge's two triangle slots, A and A + 1
@@ -544,79 +633,68 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
             _union_extremes(P, parts, lt, rt, x_split, small)
             top -= 1
             continue
-        single_l, single_r = parts[lt, SMALL] == 1, parts[rt, SMALL] == 1
-        ccwb, iccb = _bounds(P, code, parts[lt, XMIN], fmt, level_filter)
-        wx, wy = _box(P, parts, lt, rt)
-        ccws, iccs = static_bounds(wx, wy, ccwb, iccb)
-        gl = -1 if single_l else tri(T[slot(ghost_out[u(l)], 4)])  # the ghost at each end
-        gr = -1 if single_r else ghost_out[u(r)]
-        # The base's and the candidates' coordinates stay in registers: the
-        # predicates on the critical path then load only the point they
-        # test, and each walk step loads the next one's point before its own
-        # test decides (1M uniform, merge minima 131.4-132.6 -> 127.3-130.4
-        # ms, same counts).
-        lx, ly = P[u(l), 0], P[u(l), 1]
-        rx, ry = P[u(r), 0], P[u(r), 1]
-        cl, clx, cly, hl = _ahead(T, P, gl, 0) if gl >= 0 else (-1, 0.0, 0.0, -1)
-        cr, crx, cry, hr = _ahead(T, P, gr, 1) if gr >= 0 else (-1, 0.0, 0.0, -1)
+        bounds = _bounds(P, parts, lt, rt, code, fmt, level_filter)
+        # The base's and the candidates' coordinates stay in registers (the
+        # Vertexes): the predicates on the critical path then load only the
+        # point they test, and each walk step loads the next one's point
+        # before its own test decides (docs/performance.md, "coordinates in
+        # registers").
+        lv, rv = _vertex(P, l), _vertex(P, r)
+        # the Walk at each end: at l the ghost of the hull edge into l
+        wl = _no_walk() if parts[lt, SMALL] == 1 else _ahead(
+            T, P, ring_ghost(T, ghost_out[u(l)], 0), 0)
+        wr = _no_walk() if parts[rt, SMALL] == 1 else _ahead(T, P, ghost_out[u(r)], 1)
         while True:  # lower common tangent: l walks clockwise, r counter-clockwise
-            moved, l, lx, ly, gl, cl, clx, cly, hl, tested = _walk(
-                T, P, counts, l, lx, ly, r, rx, ry, gl, cl, clx, cly, hl, 0, ccwb, ccws)
+            moved, lv, wl, tested = _walk(T, P, counts, lv, rv, wl, 0, bounds)
             o_calls += tested
             if moved:
                 continue
-            moved, r, rx, ry, gr, cr, crx, cry, hr, tested = _walk(
-                T, P, counts, l, lx, ly, r, rx, ry, gr, cr, crx, cry, hr, 1, ccwb, ccws)
+            moved, rv, wr, tested = _walk(T, P, counts, lv, rv, wr, 1, bounds)
             o_calls += tested
             if not moved:
                 break
+        l, r = lv.id, rv.id
         B = A + 1
         _splice(T, A, B, l, r)
-        _splice_side(T, A, B, gl, 0)
-        _splice_side(T, A, B, gr, 1)
+        _splice_side(T, A, B, wl.g, 0)
+        _splice_side(T, A, B, wr.g, 1)
         l_bottom = l
-        # Each side's state (_side) is carried from step to step, and only
+        # Each side's state (a Side) is carried from step to step, and only
         # the side that advanced loads it again: a cross edge writes the
         # vertices of A and the new A and link entries, never the other
         # side's ghost, candidate or the vertex beyond, so that side's chain
         # of dependent loads leaves the critical path (docs/performance.md,
-        # "merge's idle side").  The advancing side's next
-        # state cannot be loaded ahead: the cross edge may become the real
-        # triangle beyond its next ghost.
-        gl, cl, clx, cly, xl, xlx, xly = _side(T, P, A, B, 0)
-        gr, cr, crx, cry, xr, xrx, xry = _side(T, P, A, B, 1)
+        # "merge's idle side").  The advancing side's next state cannot be
+        # loaded ahead: the cross edge may become the real triangle beyond
+        # its next ghost.
+        left = _side(T, P, A, B, 0)
+        right = _side(T, P, A, B, 1)
         while True:  # the rising bubble
-            bx, by = rx - lx, ry - ly  # the base's difference and lift (_candidate)
-            blift = bx * bx + by * by
-            vl, gl, cl, clx, cly, xl, xlx, xly, ulx, uly, liftl, kl, oc, ic = _candidate(
-                T, P, counts, B, 0, gl, cl, clx, cly, xl, xlx, xly, lx, ly, rx, ry, bx, by,
-                blift, ccwb, ccws, iccb, iccs)
-            o_calls += oc
-            i_calls += ic
-            vr, gr, cr, crx, cry, xr, xrx, xry, urx, ury, liftr, kr, oc, ic = _candidate(
-                T, P, counts, B, 1, gr, cr, crx, cry, xr, xrx, xry, lx, ly, rx, ry, bx, by,
-                blift, ccwb, ccws, iccb, iccs)
-            o_calls += oc
-            i_calls += ic
+            bx, by = rv.x - lv.x, rv.y - lv.y
+            base = Base(lv, rv, bx, by, bx * bx + by * by)
+            vl, left, rel_l, calls = _candidate(T, P, counts, B, 0, left, base, bounds)
+            o_calls += calls[0]
+            i_calls += calls[1]
+            vr, right, rel_r, calls = _candidate(T, P, counts, B, 1, right, base, bounds)
+            o_calls += calls[0]
+            i_calls += calls[1]
             if not vl and not vr:
                 break
-            right = vr
-            if vl and vr:  # incircle(cl, l, r, cr) = incircle(cl, r, cr, l), from _candidate's
-                det = liftl * kr + blift * (urx * uly - ulx * ury) + liftr * -kl
-                ic, st = incircle_decide(det, ulx, uly, bx, by, urx, ury, liftl, blift, liftr,
-                                         clx, cly, rx, ry, crx, cry, lx, ly, iccb, iccs)
+            to_right = vr
+            if vl and vr:
+                to_right = _right_wins(counts, base, (left.c, rel_l), (right.c, rel_r), bounds)
                 i_calls += 1
-                tally_undecided(counts, INCIRCLE, st)
-                right = ic > 0.0
-            g, c = (gr, cr) if right else (gl, cl)
-            _cross_edge(T, A, g, l, r, c, 1 if right else 0)
-            A = g
-            if right:
-                r, rx, ry = cr, crx, cry
-                gr, cr, crx, cry, xr, xrx, xry = _side(T, P, A, B, 1)
+            side = right if to_right else left
+            _cross_edge(T, A, side.g, l, r, side.c.id, 1 if to_right else 0)
+            A = side.g
+            if to_right:
+                rv = right.c
+                r = rv.id
+                right = _side(T, P, A, B, 1)
             else:
-                l, lx, ly = cl, clx, cly
-                gl, cl, clx, cly, xl, xlx, xly = _side(T, P, A, B, 0)
+                lv = left.c
+                l = lv.id
+                left = _side(T, P, A, B, 0)
             set_triangle(T, A, l, r, GHOST)
         ghost_out[u(l_bottom)] = B
         ghost_out[u(r)] = A

@@ -24,21 +24,20 @@ result never coexist (peak memory, lfqt.dc._output):
 3. ``move_rows``: the later chunks' rows slide down behind them, in chunk
    order, each below what is still to move; the result keeps T's range of
    rows, and the pages around it go back to the system (lfqt.workspace).
-   At 10M points on 2 threads the move cost 9.4 ms that meeting in place
-   saves.
+   Meeting in place saves a move (docs/performance.md, "output rows").
 """
 import numpy as np
 from numba import njit
 
 from ..indexing import borrow, prefetch, u
-from .layout import GHOST, edge, slot, tri, twin
+from .layout import GHOST, edge, inner, ring_ghost, slot, tail, twin
 from .subdivide import DUP
 
 
 # Morton order scatters the input indices: gather_points asks for the point
-# AHEAD positions on before it reads it (1M: 9-17 -> 6-11 ms on a VM).  A
-# random permutation, one thread: 1M 3.8 ms from 32 to 256; 10M 152 ms at
-# 32, 128-131 ms from 64 to 256 (memory's latency needs more in flight).
+# AHEAD positions on before it reads it; memory's latency needs enough reads
+# in flight, and more than 64 gained nothing (docs/performance.md, "gather
+# ahead").
 AHEAD = 64
 
 
@@ -80,13 +79,13 @@ def fill_holes(T, codes, start, m, copies):
     k = 0
     g = start
     while True:  # seal the hull; the ghosts below m are holes
-        T[twin(T[slot(g, 3)])] = -1
+        T[twin(inner(T, g))] = -1
         if g < m:
             if k == holes.shape[0]:
                 return False
             holes[k] = g
             k += 1
-        g = tri(T[slot(g, 5)])
+        g = ring_ghost(T, g, 1)
         if g == start:
             break
     if copies:
@@ -211,14 +210,14 @@ def hull_loop(T, start_ghost, perm, index_sample):
     g = start_ghost
     while True:
         count += 1
-        g = tri(T[slot(g, 5)])
+        g = ring_ghost(T, g, 1)
         if g == start_ghost:
             break
     out = np.empty(count, dtype=index_sample.dtype)
     g = start_ghost
     for i in range(count):
-        out[i] = perm[T[slot(g, 1)]]
-        g = tri(T[slot(g, 5)])
+        out[i] = perm[tail(T, g)]
+        g = ring_ghost(T, g, 1)
     return out
 
 

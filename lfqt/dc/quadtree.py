@@ -17,6 +17,7 @@ splits form the regular grids of Fig. 1c.
 """
 from __future__ import annotations
 
+from collections import namedtuple
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -73,9 +74,15 @@ class Quadtree(NamedTuple):
     nodes: dict[str, npt.NDArray[Any]]
 
 
+# The quad-tree's merge nodes, one entry per node in op order: its first
+# position, its split position, its end, the split's bit, its parent (-1 at
+# the root).
+Nodes = namedtuple("Nodes", "lo split hi bit parent")
+
+
 @njit(cache=True)
 def _decode(ops, nops, n, gaps):
-    """(lo, split, hi, bit, parent) of each merge op of a post-order op list
+    """The Nodes (lo, split, hi, bit, parent) of the merge ops of a post-order op list
     (lfqt.dc.subdivide; a split's bit is its gap) over n sorted positions, in
     op order.  A node ends where the next vertex pushed after it starts (runs
     of equal keys are one vertex), or at n."""
@@ -111,7 +118,7 @@ def _decode(ops, nops, n, gaps):
         s_node[top] = node
         node += 1
     hi[open_from:] = n
-    return lo, split, hi, bit, parent
+    return Nodes(lo, split, hi, bit, parent)
 
 
 def _floats(ordered, dtype, fill):

@@ -3,6 +3,7 @@ validated public wrapper ``insert`` over the kernels of lfqt.incremental.kernel.
 from __future__ import annotations
 
 import time
+from collections import namedtuple
 
 import numpy as np
 import numpy.typing as npt
@@ -142,9 +143,16 @@ def insert(points: npt.ArrayLike, *,
                          degenerate=degenerate, reason=reason)
 
 
+# The insertion order (perm, hints, its name) and the points' layout in
+# memory (store, stored: lfqt.orders.layout).
+Order = namedtuple("Order", "perm hints name store stored")
+# The output of points that span fewer than d dimensions.
+Degenerate = namedtuple("Degenerate", "simplices neighbors hull dup_of n_distinct reason")
+
+
 def _order(P, order, hint, seed):
-    """(perm, hints, name, store, stored) of the insertion order and the
-    points' layout in memory (lfqt.orders.layout)."""
+    """The Order of the insertion order and the points' layout in memory
+    (lfqt.orders.layout)."""
     n = len(P)
     if isinstance(order, tuple):
         perm, hints = (np.array(a, dtype=np.int64) for a in order)  # copies: relabelled in place
@@ -152,13 +160,13 @@ def _order(P, order, hint, seed):
                 or np.any((hints < -1) | (hints >= n))):
             raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
                              "range(n) and one hint per point, a point index or -1")
-        return (perm, hints, "explicit", *orders.layout(P, "input")[2:])
+        return Order(perm, hints, "explicit", *orders.layout(P, "input")[2:])
     perm, hints, store, stored = orders.layout(P, order, hint=hint or "parent", seed=seed)
     # "hilbert" is its own layout: store is perm itself where layout keeps it
     # int64 (2**31 points or more), a copy in int32 below
     if np.shares_memory(perm, store):
         perm = perm.copy()
-    return perm, hints, order, store, stored
+    return Order(perm, hints, order, store, stored)
 
 
 def _first_of_duplicates(simplices, hull, dup_of):
@@ -173,9 +181,9 @@ def _first_of_duplicates(simplices, hull, dup_of):
 
 
 def _degenerate(P):
-    """The output for points that span fewer than d dimensions: no cells,
-    the extreme points as hull, duplicates by exact equality, and the number
-    of distinct points."""
+    """The Degenerate output for points that span fewer than d dimensions:
+    no cells, the extreme points as hull, duplicates by exact equality, the
+    number of distinct points, and the reason."""
     n, d = P.shape
     idx = index_dtype(n)
     dup_of, first = np.arange(n), np.empty(0, dtype=int)
@@ -187,7 +195,7 @@ def _degenerate(P):
               % (d + 1, "all equal" if len(first) == 1 else
                  "collinear" if d == 2 else "collinear or coplanar"))
     empty = np.empty((0, d + 1), dtype=np.int32)
-    return empty, empty.copy(), hull, dup_of, len(first), reason
+    return Degenerate(empty, empty.copy(), hull, dup_of, len(first), reason)
 
 
 def _chain_hull(edges):

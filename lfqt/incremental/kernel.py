@@ -25,7 +25,7 @@ from numba import njit
 
 from .. import pages, workspace
 from ..clock import cycle_counter
-from ..indexing import bit, popcount, prefetch, rank, u
+from ..indexing import bit, borrow, popcount, prefetch, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
@@ -39,22 +39,27 @@ WALK_AHEAD = 8  # points between asking for a walk's first cell and walking it
 
 
 @njit(cache=True, inline="always")
-def _orient_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, static):
-    """Orientation of a, b, c (2D, z ignored) or of a, b, c, e (3D);
-    ``static``: a static filter bound (statics), np.inf for none."""
-    if d == 2:
-        return orient2d_staged(ax, ay, bx, by, cx, cy, CCW_A, static)
-    return orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, O3D_A, static)
+def _point(P, d, v):
+    """Point v as (x, y, z); in 2D z repeats y and is never used."""
+    return P[u(v), 0], P[u(v), 1], P[u(v), d - 1]
 
 
 @njit(cache=True, inline="always")
-def _insphere_pts(d, ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, static):
-    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e;
-    ``static`` as in _orient_pts."""
+def _orient_pts(d, a, b, c, e, static):
+    """Orientation of the points (_point) a, b, c (2D) or a, b, c, e (3D);
+    ``static``: a static filter bound (statics), np.inf for none."""
     if d == 2:
-        return incircle_staged(ax, ay, bx, by, cx, cy, px, py, ICC_A, static)
-    return insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, ex, ey, ez, px, py, pz, ISP_A,
-                           static)
+        return orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], CCW_A, static)
+    return orient3d_staged(a, b, c, e, O3D_A, static)
+
+
+@njit(cache=True, inline="always")
+def _insphere_pts(d, a, b, c, e, p, static):
+    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e
+    (points as _point's); ``static`` as in _orient_pts."""
+    if d == 2:
+        return incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], p[0], p[1], ICC_A, static)
+    return insphere_staged(a, b, c, e, p, ISP_A, static)
 
 
 @njit(cache=True)
@@ -80,10 +85,15 @@ def statics(P, d):
 
 
 @njit(cache=True)
-def _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span):
+def _inside_facet_circle(d, a, b, e, p, span):
     """p lies on the line (2D: segment a-b) or plane (3D: triangle a, b, e)
     of a hull facet: is it strictly inside the facet's circumcircle (2D: the
-    open segment)?  Scalars only, like every helper of the insertion loop."""
+    open segment)?  Points as _point's: scalars only, like every helper of
+    the insertion loop."""
+    ax, ay, az = a
+    bx, by, bz = b
+    ex, ey, ez = e
+    px, py, pz = p
     if d == 2:
         if min(ax, bx) < max(ax, bx):
             return min(ax, bx) < px < max(ax, bx)
@@ -94,10 +104,10 @@ def _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span
         qx = ax + span if axis == 0 else ax
         qy = ay + span if axis == 1 else ay
         qz = az + span if axis == 2 else az
-        o, st = orient3d_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz, O3D_A)
+        q = (qx, qy, qz)
+        o, st = orient3d_staged(a, b, e, q, O3D_A)
         if o != 0.0:
-            s, st = insphere_staged(ax, ay, az, bx, by, bz, ex, ey, ez, qx, qy, qz,
-                                    px, py, pz, ISP_A)
+            s, st = insphere_staged(a, b, e, q, p, ISP_A)
             return s * o > 0.0
     return False
 
@@ -136,8 +146,8 @@ def _initial_simplex(P, d, perm):
                     return pick
         else:
             a, b, c = perm[pick[0]], perm[pick[1]], perm[pick[2]]
-            o, st = _orient_pts(3, P[a, 0], P[a, 1], P[a, 2], P[b, 0], P[b, 1], P[b, 2],
-                                P[c, 0], P[c, 1], P[c, 2], P[q, 0], P[q, 1], P[q, 2], np.inf)
+            o, st = _orient_pts(3, _point(P, 3, a), _point(P, 3, b), _point(P, 3, c),
+                                _point(P, 3, q), np.inf)
             if o != 0.0:
                 pick[3] = t
                 return pick
@@ -157,6 +167,7 @@ Cells = namedtuple("Cells", "C N mark vcell free")
 # they are views of (None once the storage grew past them): finite_cells
 # writes over them
 Insertion = namedtuple("Insertion", "C N mark ncells dup_of counts ok records")
+Inserted = namedtuple("Inserted", Insertion._fields[:-1])  # _insert_all's: all but records
 Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface hkeys hvals hstamps")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
@@ -165,9 +176,8 @@ NCELLS, NFREE, STAMP, LAST = range(4)
 @njit(cache=True, inline="always")
 def _orient_ids(P, d, v0, v1, v2, v3, static):
     """Orientation of the points v0, v1, v2 (2D) or v0, v1, v2, v3 (3D)."""
-    return _orient_pts(d, P[u(v0), 0], P[u(v0), 1], P[u(v0), d - 1], P[u(v1), 0], P[u(v1), 1],
-                       P[u(v1), d - 1], P[u(v2), 0], P[u(v2), 1], P[u(v2), d - 1], P[u(v3), 0],
-                       P[u(v3), 1], P[u(v3), d - 1], static)
+    return _orient_pts(d, _point(P, d, v0), _point(P, d, v1), _point(P, d, v2),
+                       _point(P, d, v3), static)
 
 
 @njit(cache=True, inline="always")
@@ -206,7 +216,7 @@ def _conflicts(P, d, C, y, p, span, static):
     """Does cell y conflict with p: (a finite cell whose circumsphere
     strictly contains p, or an infinite cell with p beyond its hull facet,
     or on its plane and strictly inside its circumcircle; the in-sphere
-    test's deciding stage, -1 for an infinite cell).  Every array read comes
+    test's deciding stage, 0 for an infinite cell, which makes none).  Every array read comes
     before the predicates: an array used after a call that numba does not
     inline keeps its atomic reference count alive."""
     width = d + 1
@@ -214,23 +224,18 @@ def _conflicts(P, d, C, y, p, span, static):
     if f < 0:
         a, b, e = C[u(y), 0], C[u(y), 1], C[u(y), 2]
         g = C[u(y), 3] if d == 3 else a
-        sv, st = _insphere_pts(d, P[u(a), 0], P[u(a), 1], P[u(a), d - 1], P[u(b), 0],
-                               P[u(b), 1], P[u(b), d - 1], P[u(e), 0], P[u(e), 1],
-                               P[u(e), d - 1], P[u(g), 0], P[u(g), 1], P[u(g), d - 1],
-                               P[u(p), 0], P[u(p), 1], P[u(p), d - 1], static[1])
+        sv, st = _insphere_pts(d, _point(P, d, a), _point(P, d, b), _point(P, d, e),
+                               _point(P, d, g), _point(P, d, p), static[1])
         return sv > 0.0, st
     v0, v1, v2, v3 = _with_p(C, d, y, f, p)
     fa = C[u(y), u((f + 1) % width)]
     fb = C[u(y), u((f + 2) % width)]
     fe = C[u(y), u((f + 3) % width)] if d == 3 else fa
-    ax, ay, az = P[u(fa), 0], P[u(fa), 1], P[u(fa), d - 1]
-    bx, by, bz = P[u(fb), 0], P[u(fb), 1], P[u(fb), d - 1]
-    ex, ey, ez = P[u(fe), 0], P[u(fe), 1], P[u(fe), d - 1]
-    px, py, pz = P[u(p), 0], P[u(p), 1], P[u(p), d - 1]
+    a, b, e, q = _point(P, d, fa), _point(P, d, fb), _point(P, d, fe), _point(P, d, p)
     o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
     if o != 0.0:
-        return o > 0.0, -1
-    return _inside_facet_circle(d, ax, ay, az, bx, by, bz, ex, ey, ez, px, py, pz, span), -1
+        return o > 0.0, 0
+    return _inside_facet_circle(d, a, b, e, q, span), 0
 
 
 # The faces through p of a new cell with p in slot i, and each face's ridge
@@ -295,8 +300,8 @@ def _new_triangle(C, N, mark, vcell, w, x, i, p):
     opposite its slot i, glued to the triangle outside that edge; its
     slots 1 and 2 are left to the caller (the triangles before and after
     it around p).  _new_cell's 2D case, with p in a fixed slot: _new_cell
-    and the ring glued through slots i + 1, i + 2 measured 4-6% slower
-    (1M 2D cavity, 350-358 -> 372-385 ns/pt)."""
+    and the ring glued through slots i + 1, i + 2 measured slower
+    (docs/performance.md, "2D triangles with p in slot 0")."""
     a = C[u(x), u(i + 1 if i < 2 else 0)]
     b = C[u(x), u(i - 1 if i > 0 else 2)]
     y = N[u(x), u(i)]
@@ -333,50 +338,37 @@ def _commit(counts, pending):
         pending[k] = 0
 
 
+# An insertion run's order and what it keeps between its range kernels:
+# perm, hint and pick (the initial simplex's positions in perm), state (below),
+# counts, dup_of, and the filters' span and static bounds (statics).
+Run = namedtuple("Run", "perm hint pick state counts dup_of span static")
+
+
 # _insert_range inserts perm[t0:] until done (returns (n, 0)) or until the
 # cell arrays (reason 1) or the cavity scratch (2) are too small for the next
 # point, before touching it; it returns (t, reason) to resume after growing.
 #
-# Its per-point loops (the walk, the cavity, the new cells and their ridge
-# table) are written out in it: an inlined helper that loops and takes the
-# arrays costs numba an atomic reference count per array and call (moving the
-# 3D gluing into one measured 4-10% slower).  No array is reassigned in it
-# for the same reason.  Indices go through ``u`` (lfqt.indexing).  It is
-# inlined into one kernel per dimension, so that ``d`` is a constant there.
-#
-# The cavity: cells whose circumsphere strictly contains p (marked stamp;
-# cells found outside it stamp + 1), depth first.  When a cell joins the
-# cavity, the records and marks of its neighbours are asked for at once: they
-# are read next, and the mark of a cell off the free list was a cache miss,
-# 10% of the 3D kernel's samples (1M cube, Kd order, 6 interleaved series of
-# 3: their medians 3.32-3.53 -> 3.29-3.52 s, the median of those 3.51 ->
-# 3.36).  A stack entry is a cell and the faces it has left to look across,
-# as (count << 2) | next slot.  In 2D a cell entered from x looks across its
-# two other edges in counter-clockwise order, x's slot + 1 then + 2: the
-# cavity's cells form a tree (no vertex is inside it), so the boundary edges
-# come out in counter-clockwise order around p, which glues the new
-# triangles in a ring without a table.  With p in x, below the edge a-b,
-# counter-clockwise around p runs from a (right) over w to b (left):
-#
-#              w          y, entered across b-a from x:
-#            /   \          its slot j+1: edge a-w, then
-#           b --- a        its slot j+2: edge w-b
-#              x           (j: the slot of w, opposite x)
-#              p
-#
-# The new cells: in 2D a triangle (p, a, b) per boundary edge a -> b, glued
-# to the next one across b-p (slot 1) and to the previous one across p-a
-# (slot 2); in 3D a cell per boundary facet, glued to each other through a
-# ridge table that uses only a prefix sized to this cavity (load at most
-# 1/4), so that it stays in L1; stamps invalidate old entries.
+# Each point goes through four steps, one inlined helper each: the walk
+# (_locate), the cavity (_cavity), the new cells (_fill_2d, _fill_3d) and
+# the freeing of the cavity's cells (_free).  The helpers loop over arrays:
+# they get borrowed views of them (lfqt.indexing.borrow), since an inlined
+# helper that loops pays numba two atomic reference counts per array and
+# call otherwise (docs/performance.md, "insertion's helpers").  No array is
+# reassigned in them for the same reason.  Indices go through ``u``
+# (lfqt.indexing).  _insert_range is inlined into one kernel per dimension,
+# so that ``d`` is a constant there.
 @njit(cache=True, inline="always")
-def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
-                  dup_of, timing):
+def _insert_range(P, d, run, t0, cells, scratch, timing):
     """Insert perm[t0:] (see above)."""
-    C, N, mark, vcell, free = cells
-    stack, slots, conflicts, bcell, bface, hkeys, hvals, hstamps = scratch
+    perm, hint, pick, dup_of = run.perm, run.hint, run.pick, run.dup_of
+    state, counts = borrow(run.state), borrow(run.counts)
+    cells = Cells(borrow(cells.C), borrow(cells.N), borrow(cells.mark), borrow(cells.vcell),
+                  borrow(cells.free))
+    scratch = Scratch(borrow(scratch.stack), borrow(scratch.slots), borrow(scratch.conflicts),
+                      borrow(scratch.bcell), borrow(scratch.bface), borrow(scratch.hkeys),
+                      borrow(scratch.hvals), borrow(scratch.hstamps))
+    C, vcell = cells.C, cells.vcell
     n = perm.shape[0]
-    width = d + 1
     pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
     rnd = np.uint64(88172645463325252 + t0)
     for t in range(t0, n):
@@ -387,132 +379,29 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
         h = hint[u(t)]
         c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
         c_start = cycle_counter() if timing else 0
-        # ---- locate: remembering visibility walk, from a finite cell
-        f = _infinite_slot(C, width, c)
-        if f >= 0:
-            c = N[u(c), u(f)]
-        prev = -1
-        moved = True
-        while moved and _infinite_slot(C, width, c) < 0:
-            rnd ^= rnd << np.uint64(13)
-            rnd ^= rnd >> np.uint64(7)
-            rnd ^= rnd << np.uint64(17)
-            rot = np.int64(rnd % np.uint64(width))  # a random first face: the walk cannot cycle
-            moved = False
-            for q in range(width):
-                i = q + rot if q + rot < width else q + rot - width
-                nb = N[u(c), u(i)]
-                if nb == prev:
-                    continue
-                v0, v1, v2, v3 = _with_p(C, d, c, i, p)
-                o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
-                pending[ORIENT] += 1
-                if o < 0.0:
-                    prev, c, moved = c, nb, True
-                    break
+        c, rnd = _locate(P, d, cells, c, p, rnd, run.static, borrow(pending))
         c_located = cycle_counter() if timing else 0
-        dup = -1 if _infinite_slot(C, width, c) >= 0 else _duplicate_in(P, d, C, c, p)
+        dup = -1 if _infinite_slot(C, d + 1, c) >= 0 else _duplicate_in(P, d, C, c, p)
         if dup >= 0:
             dup_of[u(p)] = dup
             counts[DUPLICATES] += 1
             _commit(counts, pending)
             continue
-        # ---- cavity (see above)
         state[STAMP] += 2
-        stamp = state[STAMP]
-        nstack, nconf, nb_count, small = 1, 1, 0, False
-        stack[0] = c
-        slots[0] = width << 2
-        conflicts[0] = c
-        mark[u(c)] = stamp
-        while nstack > 0 and not small:
-            x = stack[u(nstack - 1)]
-            code = slots[u(nstack - 1)]
-            if code < 4:
-                nstack -= 1
-                continue
-            i = code & 3
-            slots[u(nstack - 1)] = code - 4 + (1 if i < width - 1 else 1 - width)
-            y = N[u(x), u(i)]
-            if mark[u(y)] == stamp:
-                continue
-            conflict = False
-            if mark[u(y)] != stamp + 1:
-                conflict, st = _conflicts(P, d, C, y, p, span, static)
-                if st >= 0:
-                    tally(pending, INCIRCLE, st)
-            if conflict:
-                small = nstack == stack.shape[0] or nconf == conflicts.shape[0]
-                if small:
-                    break
-                mark[u(y)] = stamp
-                conflicts[u(nconf)] = y
-                nconf += 1
-                stack[u(nstack)] = y
-                slots[u(nstack)] = width << 2
-                for k in range(width):  # y's neighbours are read next (see above)
-                    prefetch(C, np.int64(N[u(y), u(k)]))
-                    prefetch(mark, np.int64(N[u(y), u(k)]))
-                if d == 2:
-                    j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
-                    slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
-                nstack += 1
-            else:
-                mark[u(y)] = stamp + 1
-                small = nb_count == bcell.shape[0]
-                if small:
-                    break
-                bcell[u(nb_count)] = x
-                bface[u(nb_count)] = i
-                nb_count += 1
-        if small or 4 * d * nb_count > hkeys.shape[0]:
+        nconf, nb_count, small = _cavity(P, d, cells, scratch, c, p, state[STAMP], run.span,
+                                         run.static, borrow(pending))
+        if small or 4 * d * nb_count > scratch.hkeys.shape[0]:
             pending[:] = 0  # nothing is modified yet: this point is retried after growing
             return t, 2
         if state[NCELLS] + max(nb_count - state[NFREE], 0) > C.shape[0]:
             pending[:] = 0
             return t, 1
-        for b in range(nb_count):  # ---- the new cells' ids (see above)
-            if state[NFREE] > 0:
-                state[NFREE] -= 1
-                stack[u(b)] = free[u(state[NFREE])]
-            else:
-                stack[u(b)] = state[NCELLS]
-                state[NCELLS] += 1
+        _new_ids(cells, state, scratch.stack, nb_count)
         if d == 2:
-            for b in range(nb_count):
-                _new_triangle(C, N, mark, vcell, stack[u(b)], bcell[u(b)], bface[u(b)], p)
-            for b in range(nb_count):
-                w = stack[u(b)]
-                N[u(w), 1] = stack[u(b + 1 if b + 1 < nb_count else 0)]
-                N[u(w), 2] = stack[u(b - 1 if b > 0 else nb_count - 1)]
+            _fill_2d(cells, scratch, nb_count, p)
         else:
-            hbits = 4
-            while (1 << hbits) < 2 * d * nb_count:
-                hbits += 1
-            mask = (1 << hbits) - 1
-            hshift = np.uint64(64 - hbits)
-            for b in range(nb_count):
-                i = bface[u(b)]
-                w = stack[u(b)]
-                _new_cell(C, N, mark, vcell, d, w, bcell[u(b)], i, p)
-                for j in range(d):
-                    k, key = _ridge_key(C, d, n, w, i, j)
-                    # Fibonacci hashing: the product's high bits
-                    e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
-                    while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
-                        e = (e + 1) & mask
-                    if hstamps[u(e)] == stamp:
-                        w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
-                        N[u(w), u(k)] = w2
-                        N[u(w2), u(hvals[u(e)] - w2 * width)] = w
-                    else:
-                        hstamps[u(e)] = stamp
-                        hkeys[u(e)] = key
-                        hvals[u(e)] = w * width + k
-        for q in range(nconf):
-            mark[u(conflicts[u(q)])] = DEAD
-            free[u(state[NFREE])] = conflicts[u(q)]
-            state[NFREE] += 1
+            _fill_3d(cells, scratch, d, n, nb_count, p, state[STAMP])
+        _free(cells, state, scratch.conflicts, nconf)
         counts[CONFLICTS] += nconf
         _commit(counts, pending)
         state[LAST] = p
@@ -522,18 +411,197 @@ def _insert_range(P, d, perm, hint, span, static, pick, t0, cells, scratch, stat
     return n, 0
 
 
-@njit(cache=True)
-def _insert_range_2d(P, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
-                     dup_of, timing):
-    return _insert_range(P, 2, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
-                         dup_of, timing)
+@njit(cache=True, inline="always")
+def _locate(P, d, cells, c, p, rnd, static, pending):
+    """The cell containing p: (that cell, the walk's random state).  A
+    remembering visibility walk from cell c, or from the finite cell next to
+    it; each step crosses the first face, from a random one on, that p lies
+    beyond (which keeps the walk from cycling).  Its orient tests go to
+    ``pending``."""
+    C, N = cells.C, cells.N
+    width = d + 1
+    f = _infinite_slot(C, width, c)
+    if f >= 0:
+        c = N[u(c), u(f)]
+    prev = -1
+    moved = True
+    while moved and _infinite_slot(C, width, c) < 0:
+        rnd ^= rnd << np.uint64(13)
+        rnd ^= rnd >> np.uint64(7)
+        rnd ^= rnd << np.uint64(17)
+        rot = np.int64(rnd % np.uint64(width))  # a random first face
+        moved = False
+        for q in range(width):
+            i = q + rot if q + rot < width else q + rot - width
+            nb = N[u(c), u(i)]
+            if nb == prev:
+                continue
+            v0, v1, v2, v3 = _with_p(C, d, c, i, p)
+            o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
+            pending[ORIENT] += 1
+            if o < 0.0:
+                prev, c, moved = c, nb, True
+                break
+    return c, rnd
+
+
+# The cavity: cells whose circumsphere strictly contains p (marked stamp;
+# cells found outside it stamp + 1), depth first.  When a cell joins the
+# cavity, the records and marks of its neighbours are asked for at once: they
+# are read next, and the mark of a cell off the free list is a cache miss
+# (docs/performance.md, "cavity prefetch").  A stack entry is a cell and the
+# faces it has left to look across, as (count << 2) | next slot.  In 2D a
+# cell entered from x looks across its two other edges in counter-clockwise
+# order, x's slot + 1 then + 2: the cavity's cells form a tree (no vertex is
+# inside it), so the boundary edges come out in counter-clockwise order
+# around p, which glues the new triangles in a ring without a table.  With p
+# in x, below the edge a-b, counter-clockwise around p runs from a (right)
+# over w to b (left):
+#
+#              w          y, entered across b-a from x:
+#            /   \          its slot j+1: edge a-w, then
+#           b --- a        its slot j+2: edge w-b
+#              x           (j: the slot of w, opposite x)
+#              p
+@njit(cache=True, inline="always")
+def _cavity(P, d, cells, scratch, c, p, stamp, span, static, pending):
+    """The cavity of p from cell c (see above): (its cells, in
+    scratch.conflicts, the number of its boundary facets, each the face
+    scratch.bface of the cavity cell scratch.bcell, and whether the
+    scratch was too small).  Its in-sphere tests go to ``pending``."""
+    N, mark = cells.N, cells.mark
+    stack, slots, conflicts, bcell, bface = (scratch.stack, scratch.slots, scratch.conflicts,
+                                             scratch.bcell, scratch.bface)
+    width = d + 1
+    nstack, nconf, nb_count, small = 1, 1, 0, False
+    stack[0] = c
+    slots[0] = width << 2
+    conflicts[0] = c
+    mark[u(c)] = stamp
+    while nstack > 0 and not small:
+        x = stack[u(nstack - 1)]
+        code = slots[u(nstack - 1)]
+        if code < 4:
+            nstack -= 1
+            continue
+        i = code & 3
+        slots[u(nstack - 1)] = code - 4 + (1 if i < width - 1 else 1 - width)
+        y = N[u(x), u(i)]
+        if mark[u(y)] == stamp:
+            continue
+        conflict = False
+        if mark[u(y)] != stamp + 1:
+            conflict, st = _conflicts(P, d, cells.C, y, p, span, static)
+            if st > 0:
+                tally(pending, INCIRCLE, st)
+        if conflict:
+            small = nstack == stack.shape[0] or nconf == conflicts.shape[0]
+            if small:
+                break
+            mark[u(y)] = stamp
+            conflicts[u(nconf)] = y
+            nconf += 1
+            stack[u(nstack)] = y
+            slots[u(nstack)] = width << 2
+            for k in range(width):  # y's neighbours are read next (see above)
+                prefetch(cells.C, np.int64(N[u(y), u(k)]))
+                prefetch(mark, np.int64(N[u(y), u(k)]))
+            if d == 2:
+                j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
+                slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
+            nstack += 1
+        else:
+            mark[u(y)] = stamp + 1
+            small = nb_count == bcell.shape[0]
+            if small:
+                break
+            bcell[u(nb_count)] = x
+            bface[u(nb_count)] = i
+            nb_count += 1
+    return nconf, nb_count, small
+
+
+@njit(cache=True, inline="always")
+def _new_ids(cells, state, ids, count):
+    """ids[:count]: the ids of ``count`` new cells, off the free list first."""
+    for b in range(count):
+        if state[NFREE] > 0:
+            state[NFREE] -= 1
+            ids[u(b)] = cells.free[u(state[NFREE])]
+        else:
+            ids[u(b)] = state[NCELLS]
+            state[NCELLS] += 1
+
+
+@njit(cache=True, inline="always")
+def _fill_2d(cells, scratch, count, p):
+    """The new triangles (p, a, b), one per boundary edge a -> b of the
+    cavity (in counter-clockwise order around p, _cavity), in the cells
+    scratch.stack[:count]: each glued to the next one across b-p (slot 1)
+    and to the previous one across p-a (slot 2)."""
+    C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
+    ids = scratch.stack
+    for b in range(count):
+        _new_triangle(C, N, mark, vcell, ids[u(b)], scratch.bcell[u(b)], scratch.bface[u(b)], p)
+    for b in range(count):
+        w = ids[u(b)]
+        N[u(w), 1] = ids[u(b + 1 if b + 1 < count else 0)]
+        N[u(w), 2] = ids[u(b - 1 if b > 0 else count - 1)]
+
+
+@njit(cache=True, inline="always")
+def _fill_3d(cells, scratch, d, n, count, p, stamp):
+    """The new cells, one per boundary facet of the cavity, in the cells
+    scratch.stack[:count], glued to each other through a table of their
+    ridges (scratch.hkeys, hvals, hstamps) that uses only a prefix sized to
+    this cavity (load at most 1/4), so that it stays in L1; the stamp
+    invalidates old entries."""
+    C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
+    hkeys, hvals, hstamps = scratch.hkeys, scratch.hvals, scratch.hstamps
+    width = d + 1
+    hbits = 4
+    while (1 << hbits) < 2 * d * count:
+        hbits += 1
+    mask = (1 << hbits) - 1
+    hshift = np.uint64(64 - hbits)
+    for b in range(count):
+        i = scratch.bface[u(b)]
+        w = scratch.stack[u(b)]
+        _new_cell(C, N, mark, vcell, d, w, scratch.bcell[u(b)], i, p)
+        for j in range(d):
+            k, key = _ridge_key(C, d, n, w, i, j)
+            # Fibonacci hashing: the product's high bits
+            e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
+            while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
+                e = (e + 1) & mask
+            if hstamps[u(e)] == stamp:
+                w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
+                N[u(w), u(k)] = w2
+                N[u(w2), u(hvals[u(e)] - w2 * width)] = w
+            else:
+                hstamps[u(e)] = stamp
+                hkeys[u(e)] = key
+                hvals[u(e)] = w * width + k
+
+
+@njit(cache=True, inline="always")
+def _free(cells, state, conflicts, count):
+    """Free the cavity's cells conflicts[:count]: marked DEAD, onto the free
+    list."""
+    for q in range(count):
+        cells.mark[u(conflicts[u(q)])] = DEAD
+        cells.free[u(state[NFREE])] = conflicts[u(q)]
+        state[NFREE] += 1
 
 
 @njit(cache=True)
-def _insert_range_3d(P, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
-                     dup_of, timing):
-    return _insert_range(P, 3, perm, hint, span, static, pick, t0, cells, scratch, state, counts,
-                         dup_of, timing)
+def _insert_range_2d(P, run, t0, cells, scratch, timing):
+    return _insert_range(P, 2, run, t0, cells, scratch, timing)
+
+
+@njit(cache=True)
+def _insert_range_3d(P, run, t0, cells, scratch, timing):
+    return _insert_range(P, 3, run, t0, cells, scratch, timing)
 
 
 @njit(cache=True)
@@ -563,7 +631,7 @@ def _grown(cells, size):
     m = C.shape[0]
     C2, N2, mark2 = _records(np.empty(_record_shape(size, C.shape[1]), dtype=np.int32), C.shape[1])
     # entry by entry: a slice assignment (C2[:m] = C) compiles numba's
-    # shape-mismatch error path, 2.8 s of a first call with a cold cache
+    # shape-mismatch error path (docs/performance.md, "row copies")
     for c in range(m):
         for k in range(C.shape[1]):
             C2[c, k] = C[c, k]
@@ -629,8 +697,9 @@ def _start(P, d, s, cells):
 def relabel(perm, hint, store):
     """Renumber perm and hint, in place, by the points' places in ``store``
     (rank[store[k]] = k), the numbering insert_all's points come in; a hint
-    of -1 stays -1.  One pass each, where numpy's scatter, gathers and
-    where took 12 ns per point (1M), and no new arrays but the ranks."""
+    of -1 stays -1.  One pass each, and no new arrays but the ranks, where
+    numpy's scatter, gathers and where made several (docs/performance.md,
+    "relabel")."""
     _relabel(perm, hint, store, np.empty(len(store), dtype=store.dtype))
 
 
@@ -666,10 +735,9 @@ def coordinate_span(P, largest=None):
 
 def huge_pages(d):
     """Whether the cells and the output of an insertion in d dimensions go
-    on transparent huge pages (lfqt.pages): in 2D, yes (1M points: a call
-    runs 0.6 s, 5% faster than on small pages, back to back); in 3D, not
-    where the host takes free pages back, which fresh huge pages then fault
-    on (1M points: 4.6 s a call on huge pages, 3.9 s on small ones)."""
+    on transparent huge pages (lfqt.pages): in 2D, yes, fewer TLB misses; in
+    3D, not where the host takes free pages back, which fresh huge pages
+    then fault on (docs/performance.md, "insertion's pages")."""
     return d == 2 or not pages.host_takes_free_pages()
 
 
@@ -682,13 +750,14 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     ``capacity``: the cells to start with (CELLS_PER_POINT per point by
     default).  ``timing``: count the cycles of the walks and of the cavities
     (counts' LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter
-    per point, 34 ns in all on a VM whose counter costs 11 ns).
+    per point, which cost a few percent of a 2D insertion:
+    docs/performance.md, "phase cycles").
 
     The arrays of a size in points or cells come from lfqt.workspace, here,
     not from the kernel, on transparent huge pages where they pay
     (huge_pages), where numba's allocations would fault in 4 KB at a time
-    (14k faults, 35 ms, for the cells of 1M points in 2D, on every call),
-    and on the mappings of earlier calls' freed results where there are."""
+    on every call (docs/performance.md, "insertion's pages"), and on the
+    mappings of earlier calls' freed results where there are."""
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     huge = huge_pages(d)
@@ -697,16 +766,17 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     records = workspace.empty(_record_shape(cap, d + 1), np.int32, huge)
     cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32, huge))
     planar, spatial = (True, None) if d == 2 else (None, True)  # (_insert_all)
-    C, *rest = _insert_all(P, d, planar, spatial, perm, hint, span, cells, np.arange(n),
-                           max_cells, timing)
-    grown = C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
-    return Insertion(C, *rest, None if grown else records)
+    out = _insert_all(P, d, planar, spatial, (perm, hint), span, cells, np.arange(n), max_cells,
+                      timing)
+    grown = out.C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
+    return Insertion(*out, None if grown else records)
 
 
 @njit(cache=True, nogil=True)
-def _insert_all(P, d, planar, spatial, perm, hint, span, cells, dup_of, max_cells, timing):
-    """insert_all's kernel, into ``cells`` (growing them when full); dup_of
-    starts as the identity.
+def _insert_all(P, d, planar, spatial, order, span, cells, dup_of, max_cells, timing):
+    """insert_all's kernel, into ``cells`` (growing them when full), in
+    ``order`` = (perm, hint); dup_of starts as the identity.  Returns an
+    Inserted.
 
     ``planar`` and ``spatial`` tell numba the dimension: one is None, the
     other True.  numba drops a branch on an argument typed None before it
@@ -714,39 +784,40 @@ def _insert_all(P, d, planar, spatial, perm, hint, span, cells, dup_of, max_cell
     kernel; with a branch on d it compiled both (docs/performance.md,
     "insertion's first call").  A kernel passed as an argument would do the
     same, but numba does not cache a function that takes one."""
+    perm, hint = order
     counts = np.zeros(N_INSERT, dtype=np.int64)
     width = d + 1
     pick = _initial_simplex(P, d, perm)
-    if pick[0] < 0 or pick[d] < 0:
-        return cells.C[:0], cells.N[:0], cells.mark[:0], 0, dup_of, counts, False
-    s = np.empty(width, dtype=np.int64)
-    for k in range(width):
-        s[k] = perm[pick[k]]
-    state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
-    # np.int64, not a literal: a literal argument would compile the callee
-    # once for it and again for the int64 the loop passes back (numba)
-    scratch = _new_scratch(np.int64(256))  # doubled whenever a cavity needs more
-    static = statics(P, d)
-    t = np.int64(0)
-    while True:
-        reason = 0
-        if planar is not None:
-            t, reason = _insert_range_2d(P, perm, hint, span, static, pick, t, cells, scratch,
-                                         state, counts, dup_of, timing)
-        if spatial is not None:
-            t, reason = _insert_range_3d(P, perm, hint, span, static, pick, t, cells, scratch,
-                                         state, counts, dup_of, timing)
-        if reason == 0:
-            break
-        if reason == 1:
-            cap = cells.C.shape[0]
-            if cap >= max_cells:
-                raise ValueError("the triangulation needs more cells than int32 ids can number")
-            cells = _grown(cells, min(2 * cap, max_cells))
-        else:
-            scratch = _new_scratch(2 * scratch.stack.shape[0])
-    m = state[NCELLS]
-    return cells.C[:m], cells.N[:m], cells.mark[:m], m, dup_of, counts, True
+    ok = pick[0] >= 0 and pick[d] >= 0
+    m = np.int64(0)
+    if ok:
+        s = np.empty(width, dtype=np.int64)
+        for k in range(width):
+            s[k] = perm[pick[k]]
+        state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
+        # np.int64, not a literal: a literal argument would compile the callee
+        # once for it and again for the int64 the loop passes back (numba)
+        scratch = _new_scratch(np.int64(256))  # doubled whenever a cavity needs more
+        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, d))
+        t = np.int64(0)
+        while True:
+            reason = 0
+            if planar is not None:
+                t, reason = _insert_range_2d(P, run, t, cells, scratch, timing)
+            if spatial is not None:
+                t, reason = _insert_range_3d(P, run, t, cells, scratch, timing)
+            if reason == 0:
+                break
+            if reason == 1:
+                cap = cells.C.shape[0]
+                if cap >= max_cells:
+                    raise ValueError("the triangulation needs more cells than int32 ids can "
+                                     "number")
+                cells = _grown(cells, min(2 * cap, max_cells))
+            else:
+                scratch = _new_scratch(2 * scratch.stack.shape[0])
+        m = state[NCELLS]
+    return Inserted(cells.C[:m], cells.N[:m], cells.mark[:m], m, dup_of, counts, ok)
 
 
 def finite_cells(C, N, mark, ids, records=None):
@@ -791,8 +862,7 @@ def _finite_bitmap(C, mark):
     ones, the finite cells before each word of 64, and the counts.  One
     pass over the records, without a branch: a cell is finite when no
     vertex is INF (-1), that is, when the OR of its vertices is not
-    negative (1M points, 3D: 90 ms for the marks and the bits in two
-    passes, with a test per vertex; 30 ms so)."""
+    negative (docs/performance.md, "finite bitmap")."""
     m = C.shape[0]
     width = C.shape[1]
     nwords = (m + 63) >> 6

@@ -3,7 +3,8 @@ vocabulary for both pipelines (``stats["counts"]``).
 
 ``counts`` is an int64 array indexed by the constants below.  The first six
 are the predicates of paper 1's Table 1: calls, calls the stage-1 filter left
-undecided, and calls stage 2 left undecided (decided by exact arithmetic).
+undecided, and calls stage 2 left undecided (decided by stage 3, exact
+arithmetic); the stages are numbered as in lfqt.predicates.planar.
 "Incircle" is the in-sphere test in 3D.  Incremental insertion adds paper
 2's conflicting cells, skipped duplicates and cycles per phase.
 """
@@ -39,20 +40,20 @@ def per_point(counts, points):
 @njit(cache=True, inline="always")
 def tally(counts, first, stage):
     """Count one call of the predicate whose counters start at ``first``
-    (ORIENT or INCIRCLE), decided by ``stage`` (0, 1 or 2)."""
+    (ORIENT or INCIRCLE), decided by ``stage`` (1, 2 or 3)."""
     counts[first] += 1
-    counts[first + 1] += stage > 0
-    counts[first + 2] += stage > 1
+    counts[first + 1] += stage > 1
+    counts[first + 2] += stage > 2
 
 
 @njit(cache=True, inline="always")
 def tally_undecided(counts, first, stage):
     """The stage counts of ``tally`` alone, for a caller that counts its
-    calls itself: nothing for a call stage 1 decided (stage <= 0), on a
-    branch, so that the common case does not touch ``counts``."""
-    if stage > 0:
+    calls itself: nothing for a call stage 1 decided, on a branch, so that
+    the common case does not touch ``counts``."""
+    if stage > 1:
         counts[first + 1] += 1
-        if stage > 1:
+        if stage > 2:
             counts[first + 2] += 1
 
 

@@ -13,8 +13,9 @@ from numba.extending import intrinsic
 from .expansion import EPS
 from .planar import CCW_A, ICC_A
 
-# Stage-A bounds when the coordinate differences are exact (shared sign and
-# exponent, Sterbenz): Shewchuk's analysis without the differences' roundings.
+# Stage-1 bounds when the coordinate differences are exact (shared sign and
+# exponent, Sterbenz): Shewchuk's analysis of his bound A without the
+# differences' roundings.
 CCW_EXACT_DIFF = (2.0 + 16.0 * EPS) * EPS
 ICC_EXACT_DIFF = (7.0 + 56.0 * EPS) * EPS
 # ... and when, in addition, the differences are short enough that the 2x2
@@ -56,7 +57,7 @@ def level_bounds(level, coord_bits, exp_bits, mant_bits, ex, ey):
     shorter than the unshared mantissa.  With ``b`` the bit span of all
     differences: products are exact when they fit 53 bits, which makes the
     orientation sign exact (bound 0) and, for in-circle, removes roundings
-    from the error analysis of Shewchuk's stage A.
+    from the error analysis of stage 1 (Shewchuk's bound A).
     """
     sx = coord_bits - (level + 1) // 2
     sy = coord_bits - level // 2 - 1

@@ -1,7 +1,10 @@
 """2D predicates, staged (Shewchuk 1997): orientation and in-circle.
 
 Every predicate returns a float whose *sign* is exact; its magnitude is only
-an estimate.  Three stages, named as in Shewchuk's predicates.c:
+an estimate.  Three stages, numbered 1, 2, 3 everywhere in lfqt (the stage a
+``*_staged`` function returns, the counters' ``stage1_undecided`` and
+``stage2_undecided``, lfqt.predicates.counters); their error bounds keep
+the letters of Shewchuk's predicates.c (``CCW_A``, ``ICC_B``, ...):
 
 1. a float filter: ``|det| > bound * permanent`` decides.  The bound is
    Triangle's constant (``CCW_A`` / ``ICC_A``) or the level-dependent bound of
@@ -11,19 +14,20 @@ an estimate.  Three stages, named as in Shewchuk's predicates.c:
    ``|det| > static`` decides before the permanent is computed (fqDel 2.4's
    static filter; ``static_bounds``).  What it leaves goes on to the dynamic
    test, so the stage that decides a call is the same with or without it;
-2. ``*_adapt`` stage B: the determinant of the *rounded* coordinate
+2. ``*_adapt``, first part: the determinant of the *rounded* coordinate
    differences.  It decides when the differences were exact or when it
    clears ``CCW_B`` / ``ICC_B``.  Orientation computes it exactly as an
    expansion; in-circle first in double-double (``_incircle_dd``, within
    ``ICC_DD`` times the permanent), which decides all but the truly
    near-degenerate calls at a fraction of the expansions' cost, and only
    then exactly;
-3. the exact stage: for in-circle first Shewchuk's C1 correction (the
+3. the exact stage (``*_adapt``, second part): for in-circle first
+   Shewchuk's C1 correction (the
    first-order terms of the differences' roundings, in floating point, with
    its own error bound), then ``*_exact``: expansion arithmetic from the
    coordinates themselves.
 
-The ``*_staged`` functions return (value, deciding stage 0, 1 or 2) and take
+The ``*_staged`` functions return (value, deciding stage 1, 2 or 3) and take
 scalars only: an array argument on a hot path costs numba an atomic
 reference-count update per call.
 """
@@ -37,47 +41,51 @@ from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd
                         two_product, two_sum)
 
 # Shewchuk's error bounds (predicates.c, exactinit): |det - exact| <= bound *
-# permanent for stage A's float evaluation, and for stage B's estimate.
+# permanent for stage 1's float evaluation (his A), and for stage 2's
+# estimate (his B).
 CCW_A = (3.0 + 16.0 * EPS) * EPS
 CCW_B = (2.0 + 12.0 * EPS) * EPS
 ICC_A = (10.0 + 96.0 * EPS) * EPS
 ICC_B = (4.0 + 48.0 * EPS) * EPS
 ICC_C = (44.0 + 576.0 * EPS) * EPS * EPS  # stage 3's first step (Shewchuk's C1)
-RESULT_ERR = (3.0 + 8.0 * EPS) * EPS  # the rounding of the stage-B estimate
+RESULT_ERR = (3.0 + 8.0 * EPS) * EPS  # the rounding of the stage-2 estimate
 # _incircle_dd's error over the permanent: derived there, and used with room
 # for the rounding of the permanent and of the returned value.
 ICC_DD_DERIVED = 39.4 * EPS * EPS
 ICC_DD = 64.0 * EPS * EPS
-WORK_SIZE = 304  # doubles of scratch space of incircle's stage B (see _lifted_term)
+WORK_SIZE = 304  # doubles of scratch space of incircle's stage 2 (see _lifted_term)
 
 
 @njit(cache=True, inline="always")
 def orient2d_staged(ax, ay, bx, by, cx, cy, bound, static=np.inf):
     """(value, stage): value > 0 when a, b, c turn counter-clockwise, < 0
-    clockwise, 0 collinear; stage is 0, 1 or 2 for the stage that decided.
+    clockwise, 0 collinear; stage is 1, 2 or 3 for the stage that decided.
     ``static``: see the module's stage 1.  Scalars only: an array argument on
     this hot path would cost an atomic reference-count update per call."""
     acx = ax - cx
     bcx = bx - cx
     acy = ay - cy
     bcy = by - cy
-    return orient2d_decide(acx * bcy - acy * bcx, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy,
+    return orient2d_decide(acx * bcy - acy * bcx, (acx, acy, bcx, bcy), (ax, ay, bx, by, cx, cy),
                            bound, static)
 
 
 @njit(cache=True, inline="always")
-def orient2d_decide(det, acx, acy, bcx, bcy, ax, ay, bx, by, cx, cy, bound, static):
-    """orient2d_staged of a, b, c from ``det``, which the caller computed as
-    ``acx * bcy - acy * bcx`` of the rounded differences ac = a - c and
-    bc = b - c (the merge shares differences and products between
-    predicates, lfqt.dc.merge): the same value and stage."""
+def orient2d_decide(det, diffs, points, bound, static):
+    """orient2d_staged of the points (ax, ay, bx, by, cx, cy) from ``det``,
+    which the caller computed as ``acx * bcy - acy * bcx`` of the rounded
+    differences ``diffs`` = (acx, acy, bcx, bcy), ac = a - c and bc = b - c
+    (the merge shares differences and products between predicates,
+    lfqt.dc.merge): the same value and stage."""
+    acx, acy, bcx, bcy = diffs
     if abs(det) > static:
-        return det, 0
+        return det, 1
     # One well-predicted branch: Shewchuk's sign shortcuts mispredict on
     # random input and cost more than they save.
     detsum = abs(acx * bcy) + abs(acy * bcx)
     if abs(det) >= bound * detsum:
-        return det, 0
+        return det, 1
+    ax, ay, bx, by, cx, cy = points
     return _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum)
 
 
@@ -121,12 +129,12 @@ def usable_static(bound, static):
 
 @njit(cache=True)
 def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
-    """Stages 2 and 3 of orient2d: (sign-exact value, deciding stage)."""
+    """Stages 2 and 3 of orient2d: (sign-exact value, deciding stage 2 or 3)."""
     acx = ax - cx
     bcx = bx - cx
     acy = ay - cy
     bcy = by - cy
-    # Stage B: exact determinant of the rounded differences.
+    # Stage 2: exact determinant of the rounded differences (bound B).
     l1, l0 = two_product(acx, bcy)
     r1, r0 = two_product(acy, bcx)
     i, x0 = two_diff(l0, r0)
@@ -137,11 +145,11 @@ def _orient2d_adapt(ax, ay, bx, by, cx, cy, detsum):
     tails_zero = (two_diff(ax, cx)[1] == 0.0 and two_diff(bx, cx)[1] == 0.0
                   and two_diff(ay, cy)[1] == 0.0 and two_diff(by, cy)[1] == 0.0)
     if tails_zero:
-        return sign4(x3, x2, x1b, x0), 1
+        return sign4(x3, x2, x1b, x0), 2
     est = x3 + x2 + x1b + x0
     if abs(est) >= CCW_B * detsum:
-        return est, 1
-    return orient2d_exact(ax, ay, bx, by, cx, cy), 2
+        return est, 2
+    return orient2d_exact(ax, ay, bx, by, cx, cy), 3
 
 
 @njit(cache=True)
@@ -177,16 +185,17 @@ def incircle_staged(ax, ay, bx, by, cx, cy, dx, dy, bound, static=np.inf):
     clift = cdx * cdx + cdy * cdy
     det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)
            + clift * (adxbdy - bdxady))
-    return incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx,
-                           by, cx, cy, dx, dy, bound, static)
+    return incircle_decide(det, (adx, ady, bdx, bdy, cdx, cdy), (alift, blift, clift),
+                           (ax, ay, bx, by, cx, cy, dx, dy), bound, static)
 
 
 @njit(cache=True, inline="always")
-def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, ay, bx, by, cx,
-                    cy, dx, dy, bound, static):
-    """incircle_staged of a, b, c, d from ``det``, which the caller computed
-    as incircle_staged does from the rounded differences ad = a - d, bd,
-    cd and their lifts (``adx * adx + ady * ady``, ...):
+def incircle_decide(det, diffs, lifts, points, bound, static):
+    """incircle_staged of the points (ax, ay, bx, by, cx, cy, dx, dy) from
+    ``det``, which the caller computed as incircle_staged does from the
+    rounded differences ``diffs`` = (adx, ady, bdx, bdy, cdx, cdy), ad =
+    a - d, bd, cd, and their ``lifts`` (alift = ``adx * adx + ady * ady``,
+    blift, clift):
 
         alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy)
             + clift * (adx * bdy - bdx * ady)
@@ -194,19 +203,22 @@ def incircle_decide(det, adx, ady, bdx, bdy, cdx, cdy, alift, blift, clift, ax, 
     each product and sum as written, in this order (a cross product may be
     the negation of the one with its factors swapped: that is exact).  The
     same value and stage."""
+    adx, ady, bdx, bdy, cdx, cdy = diffs
+    alift, blift, clift = lifts
     if abs(det) > static:
-        return det, 0
+        return det, 1
     permanent = ((abs(bdx * cdy) + abs(cdx * bdy)) * alift
                  + (abs(cdx * ady) + abs(adx * cdy)) * blift
                  + (abs(adx * bdy) + abs(bdx * ady)) * clift)
     if abs(det) > bound * permanent:
-        return det, 0
+        return det, 1
+    ax, ay, bx, by, cx, cy, dx, dy = points
     return _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent)
 
 
 @njit(cache=True)
 def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
-    """Stages 2 and 3 of incircle: (sign-exact value, deciding stage)."""
+    """Stages 2 and 3 of incircle: (sign-exact value, deciding stage 2 or 3)."""
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -225,7 +237,7 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
         # expansions (|d| < 2**13 keeps every product below 2**56).
         m = max(abs(adx), abs(bdx), abs(cdx), abs(ady), abs(bdy), abs(cdy))
         if m == 0.0:
-            return 0.0, 1
+            return 0.0, 2
         u = int_unit(m, 13)
         a0, a1, b0, b1, c0, c1 = (as_int(adx, u), as_int(ady, u), as_int(bdx, u),
                                   as_int(bdy, u), as_int(cdx, u), as_int(cdy, u))
@@ -233,8 +245,8 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
             v = ((a0 * a0 + a1 * a1) * (b0 * c1 - c0 * b1)
                  + (b0 * b0 + b1 * b1) * (c0 * a1 - a0 * c1)
                  + (c0 * c0 + c1 * c1) * (a0 * b1 - b0 * a1))
-            return sign_int(v), 1
-    # Stage B: the determinant of the rounded differences, first in
+            return sign_int(v), 2
+    # Stage 2: the determinant of the rounded differences, first in
     # double-double, within est_err of it; where that cannot decide, or the
     # permanent is outside _incircle_dd's range, exactly.
     in_dd_range = DD_FLOOR <= permanent <= DD_CEIL
@@ -242,14 +254,14 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
         est = _incircle_dd(adx, ady, bdx, bdy, cdx, cdy)
         est_err = ICC_DD * permanent
         if tails_zero and abs(est) > est_err:
-            return est, 1
+            return est, 2
     if tails_zero or not in_dd_range:
         est, exact_sign = _incircle_b(adx, ady, bdx, bdy, cdx, cdy)
         if tails_zero:
-            return exact_sign, 1
+            return exact_sign, 2
         est_err = 0.0  # the expansions' own rounding is in ICC_B and RESULT_ERR
     if abs(est) >= ICC_B * permanent + est_err:
-        return est, 1
+        return est, 2
     # Stage 3, first Shewchuk's C1 step (predicates.c, incircleadapt): the
     # terms of first order in the tails, added to the estimate in floating
     # point, decide unless within ICC_C * permanent + RESULT_ERR * |est| (and
@@ -264,8 +276,8 @@ def _incircle_adapt(ax, ay, bx, by, cx, cy, dx, dy, permanent):
             + ((cdx * cdx + cdy * cdy) * ((adx * bdyt + bdy * adxt) - (ady * bdxt + bdx * adyt))
                + 2.0 * (cdx * cdxt + cdy * cdyt) * (adx * bdy - ady * bdx)))
     if abs(est) >= bound:
-        return est, 2
-    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 2
+        return est, 3
+    return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy), 3
 
 
 @njit(cache=True)
@@ -309,7 +321,7 @@ def _incircle_dd(adx, ady, bdx, bdy, cdx, cdy):
 
 @njit(cache=True)
 def _incircle_b(adx, ady, bdx, bdy, cdx, cdy):
-    """Stage B exactly: the in-circle determinant of the differences as an
+    """Stage 2 exactly: the in-circle determinant of the differences as an
     expansion, returned as (its float estimate, its exact sign)."""
     work = stack_array(WORK_SIZE)  # no heap allocation per call
     na = _lifted_term(adx, ady, bdx, bdy, cdx, cdy, work, 0)

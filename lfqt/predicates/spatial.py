@@ -1,10 +1,14 @@
 """3D predicates, staged: orientation and in-sphere.
 
 Same conventions as lfqt.predicates.planar: the sign of the returned value is
-exact, ``*_staged`` returns (value, deciding stage), scalars only.  Cells are
-right-handed: orient3d(a, b, c, d) = det[b-a, c-a, d-a] > 0.  Orientation
-goes from the float filter (stage 0) to the expansions (stage 2).  In-sphere
-has a stage 1 between them (``_insphere_adapt``): the determinant of the
+exact, ``*_staged`` returns (value, deciding stage 1, 2 or 3).  A point is
+a tuple (x, y, z) of floats: a tuple is passed by value, so that the
+predicates take no array (an array argument on a hot path costs numba an
+atomic reference-count update per call).
+Cells are right-handed: orient3d(a, b, c, d) = det[b-a, c-a, d-a] > 0.
+Orientation goes from the float filter (stage 1) to the expansions (stage
+3).  In-sphere has a stage 2 between them (``_insphere_adapt``): the
+determinant of the
 rounded differences in double-double plus the first-order terms of their
 roundings, which decides nearly cospherical points (a sphere's surface
 rounded to doubles) for a fraction of the expansions' cost.
@@ -18,7 +22,8 @@ from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd
                         two_sum)
 from .planar import STATIC_MARGIN, usable_static
 
-# Shewchuk's stage-A bounds of orient3d and insphere (predicates.c, exactinit)
+# Shewchuk's stage-1 bounds (his A) of orient3d and insphere (predicates.c,
+# exactinit)
 O3D_A = (7.0 + 56.0 * EPS) * EPS
 ISP_A = (16.0 + 224.0 * EPS) * EPS
 # _insphere_dd's error over the permanent: derived there, and used with room
@@ -33,7 +38,7 @@ ISP_C = 512.0 * EPS * EPS
 
 @njit(cache=True, inline="always")
 def static_bounds3(wx, wy, wz, o3d, isp):
-    """Static stage-0 bounds (orient, in-sphere) for calls whose points all
+    """Static stage-1 bounds (orient, in-sphere) for calls whose points all
     lie in a box of widths ``wx``, ``wy``, ``wz`` (each the rounded
     difference of two coordinates), given the dynamic bounds ``o3d``/``isp``;
     planar.static_bounds' argument in 3D.  Every rounded difference of a
@@ -53,11 +58,15 @@ def static_bounds3(wx, wy, wz, o3d, isp):
 
 
 @njit(cache=True, inline="always")
-def orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound, static=np.inf):
+def orient3d_staged(a, b, c, d, bound, static=np.inf):
     """(value, stage): value > 0 when (a, b, c, d) is right-handed, i.e.
-    det[b-a, c-a, d-a] > 0; stage 0 filter, 2 exact.  ``static`` as in
+    det[b-a, c-a, d-a] > 0; stage 1 filter, 3 exact (no stage 2).  ``static`` as in
     planar's stage 1: ``static_bounds3`` bounds ``bound * permanent`` for
     every call whose points lie in one box."""
+    ax, ay, az = a
+    bx, by, bz = b
+    cx, cy, cz = c
+    dx, dy, dz = d
     adx = ax - dx
     bdx = bx - dx
     cdx = cx - dx
@@ -76,17 +85,21 @@ def orient3d_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, bound, stati
     # Shewchuk's det[a-d, b-d, c-d] is minus ours
     det = -(adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady))
     if abs(det) > static:
-        return det, 0
+        return det, 1
     permanent = ((abs(bdxcdy) + abs(cdxbdy)) * abs(adz) + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
                  + (abs(adxbdy) + abs(bdxady)) * abs(cdz))
     if abs(det) > bound * permanent:
-        return det, 0
-    return orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz), 2
+        return det, 1
+    return orient3d_exact(a, b, c, d), 3
 
 
 @njit(cache=True)
-def orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+def orient3d_exact(a, b, c, d):
     """Exact sign of det[b-a, c-a, d-a]: > 0 for a right-handed tetrahedron."""
+    ax, ay, az = a
+    bx, by, bz = b
+    cx, cy, cz = c
+    dx, dy, dz = d
     q = _int_det3(bx - ax, by - ay, bz - az, cx - ax, cy - ay, cz - az, dx - ax, dy - ay,
                   dz - az, two_diff(bx, ax)[1] == 0.0 and two_diff(by, ay)[1] == 0.0
                   and two_diff(bz, az)[1] == 0.0 and two_diff(cx, ax)[1] == 0.0
@@ -104,14 +117,18 @@ def orient3d_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     wx, wxl = exact_diff(dx, ax)
     wy, wyl = exact_diff(dy, ay)
     wz, wzl = exact_diff(dz, az)
-    d, dl = _det3_exact(ux, uxl, uy, uyl, uz, uzl, vx, vxl, vy, vyl, vz, vzl,
-                        wx, wxl, wy, wyl, wz, wzl)
-    return expansion_sign(d, dl)
+    det, detl = _det3_exact((ux, uxl, uy, uyl, uz, uzl), (vx, vxl, vy, vyl, vz, vzl),
+                            (wx, wxl, wy, wyl, wz, wzl))
+    return expansion_sign(det, detl)
 
 
 @njit(cache=True)
-def _det3_exact(ux, uxl, uy, uyl, uz, uzl, vx, vxl, vy, vyl, vz, vzl, wx, wxl, wy, wyl, wz, wzl):
-    """det[[u], [v], [w]] of expansion entries, expanded along z."""
+def _det3_exact(u, v, w):
+    """det[[u], [v], [w]] of expansion entries, expanded along z; a row is
+    (x, its length, y, its length, z, its length)."""
+    ux, uxl, uy, uyl, uz, uzl = u
+    vx, vxl, vy, vyl, vz, vzl = v
+    wx, wxl, wy, wyl, wz, wzl = w
     total = np.zeros(1)
     total_len = 1
     for k in range(3):
@@ -154,11 +171,15 @@ def _int_det3(ux, uy, uz, vx, vy, vz, wx, wy, wz, exact):
 
 
 @njit(cache=True, inline="always")
-def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, bound,
-                    static=np.inf):
+def insphere_staged(a, b, c, d, e, bound, static=np.inf):
     """(value, stage): value > 0 when e lies inside the sphere through the
     right-handed tetrahedron (a, b, c, d), < 0 outside, 0 on it; ``static``
     as in orient3d_staged."""
+    ax, ay, az = a
+    bx, by, bz = b
+    cx, cy, cz = c
+    dx, dy, dz = d
+    ex, ey, ez = e
     aex = ax - ex
     bex = bx - ex
     cex = cx - ex
@@ -199,7 +220,7 @@ def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     dlift = dex * dex + dey * dey + dez * dez
     det = -((dlift * abc - clift * dab) + (blift * cda - alift * bcd))
     if abs(det) > static:
-        return det, 0
+        return det, 1
     abp = abs(aexbey) + abs(bexaey)
     bcp = abs(bexcey) + abs(cexbey)
     cdp = abs(cexdey) + abs(dexcey)
@@ -212,16 +233,15 @@ def insphere_staged(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     dabp = abs(dez) * abp + abs(aez) * bdp + abs(bez) * dap
     permanent = dlift * abcp + clift * dabp + blift * cdap + alift * bcdp
     if abs(det) > bound * permanent:
-        return det, 0
-    return _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez,
-                           permanent)
+        return det, 1
+    return _insphere_adapt(a, b, c, d, e, permanent)
 
 
 @njit(cache=True)
-def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, permanent):
-    """Stages 1 and 2 of insphere: (sign-exact value, deciding stage).
+def _insphere_adapt(a, b, c, d, e, permanent):
+    """Stages 2 and 3 of insphere: (sign-exact value, deciding stage 2 or 3).
 
-    Stage 1: the differences are rounded, x = xh + xt exactly (two_diff).
+    Stage 2: the differences are rounded, x = xh + xt exactly (two_diff).
     The determinant of the xh in double-double (_insphere_dd, within
     ISP_DD_DERIVED P), plus its first-order change in the tails in floating
     point (_insphere_tails, as Shewchuk's C1 step in 2D), is within
@@ -231,8 +251,13 @@ def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
     the 2 u |est| term and the room up to ISP_C hold them.  It decides
     unless that close to 0.  Underflow: as in planar._incircle_dd, with
     P >= DD_FLOOR a subnormal result costs < 2**-1074 per operation, far
-    below the room between the derived bounds and ISP_DD, ISP_C.  Stage 2:
+    below the room between the derived bounds and ISP_DD, ISP_C.  Stage 3:
     the expansions."""
+    ax, ay, az = a
+    bx, by, bz = b
+    cx, cy, cz = c
+    dx, dy, dz = d
+    ex, ey, ez = e
     if DD_FLOOR <= permanent <= DD_CEIL:
         aex, aet = two_diff(ax, ex)
         aey, aeu = two_diff(ay, ey)
@@ -246,17 +271,18 @@ def _insphere_adapt(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez, 
         dex, det_ = two_diff(dx, ex)
         dey, deu = two_diff(dy, ey)
         dez, dev = two_diff(dz, ez)
-        est = _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez)
+        ae, be, ce, de = (aex, aey, aez), (bex, bey, bez), (cex, cey, cez), (dex, dey, dez)
+        est = _insphere_dd(ae, be, ce, de)
         bound = ISP_DD * permanent
         if not (aet == 0.0 and aeu == 0.0 and aev == 0.0 and bet == 0.0 and beu == 0.0
                 and bev == 0.0 and cet == 0.0 and ceu == 0.0 and cev == 0.0 and det_ == 0.0
                 and deu == 0.0 and dev == 0.0):
-            est += _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
-                                   aet, aeu, aev, bet, beu, bev, cet, ceu, cev, det_, deu, dev)
+            est += _insphere_tails(ae, be, ce, de, (aet, aeu, aev), (bet, beu, bev),
+                                   (cet, ceu, cev), (det_, deu, dev))
             bound = ISP_C * permanent
         if abs(est) > bound + 2.0 * EPS * abs(est):
-            return est, 1
-    return insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez), 2
+            return est, 2
+    return insphere_exact(a, b, c, d, e), 3
 
 
 @njit(cache=True, inline="always")
@@ -266,10 +292,10 @@ def _d_cross(a, at, b, bt, c, ct, d, dt):
 
 
 @njit(cache=True)
-def _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
-                    aet, aeu, aev, bet, beu, bev, cet, ceu, cev, det_, deu, dev):
+def _insphere_tails(ae, be, ce, de, at, bt, ct, dt):
     """The first-order change of insphere_staged's determinant when each
-    difference x (here rounded) gains its tail xt, in floating point.
+    difference x (here rounded: ae = a - e, ..., as (x, y, z)) gains its
+    tail xt (at, ..., as (x, y, z)), in floating point.
 
     Bound (u = EPS, P the permanent of the rounded differences; each of the
     determinant's monomials has degree 5 and |xt| <= u |x|): the change is
@@ -277,6 +303,14 @@ def _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
     roundings, so this evaluation is within 15.1 u * 5.01 u P of it; the
     terms of second and higher order left out are within ((1 + u)^5 - 1 -
     5u) P <= 10.01 u^2 P."""
+    aex, aey, aez = ae
+    bex, bey, bez = be
+    cex, cey, cez = ce
+    dex, dey, dez = de
+    aet, aeu, aev = at
+    bet, beu, bev = bt
+    cet, ceu, cev = ct
+    det_, deu, dev = dt
     ab = aex * bey - bex * aey
     bc = bex * cey - cex * bey
     cd = cex * dey - dex * cey
@@ -311,9 +345,10 @@ def _insphere_tails(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez,
 
 
 @njit(cache=True)
-def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
-    """insphere_staged's determinant of the differences (doubles, taken as
-    exact) in double-double, rounded once at the end.
+def _insphere_dd(ae, be, ce, de):
+    """insphere_staged's determinant of the differences ae = a - e, ..., as
+    (x, y, z) (doubles, taken as exact) in double-double, rounded once at
+    the end.
 
     Error bound, u = EPS, no underflow or overflow (DD_FLOOR <= P <= DD_CEIL,
     P the permanent of insphere_staged: sum of lift * |minor|p, a minor's
@@ -340,6 +375,10 @@ def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
     So hi + lo is within 134.3 u^2 P of the determinant, and the returned
     value, its rounding, has its sign whenever it exceeds ISP_DD * P (256 u^2
     P: room for the permanent's own roundings)."""
+    aex, aey, aez = ae
+    bex, bey, bez = be
+    cex, cey, cez = ce
+    dex, dey, dez = de
     ab, abs_ = dd_cross(aex, bey, bex, aey)
     bc, bcs = dd_cross(bex, cey, cex, bey)
     cd, cds = dd_cross(cex, dey, dex, cey)
@@ -380,9 +419,14 @@ def _insphere_dd(aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez):
 
 
 @njit(cache=True)
-def insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
+def insphere_exact(a, b, c, d, e):
     """Exact sign: > 0 when e lies inside the sphere through the right-handed
     tetrahedron (a, b, c, d)."""
+    ax, ay, az = a
+    bx, by, bz = b
+    cx, cy, cz = c
+    dx, dy, dz = d
+    ex, ey, ez = e
     rows = np.array([[ax, ay, az], [bx, by, bz], [cx, cy, cz], [dx, dy, dz]], dtype=np.float64)
     # Integer fast path (cospherical grids): exact differences, integers
     # below 2**10 in a common unit, keep every product below 2**57.
@@ -449,8 +493,8 @@ def insphere_exact(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ex, ey, ez):
         wx, wxl = exact_diff(q2[0], ex)
         wy, wyl = exact_diff(q2[1], ey)
         wz, wzl = exact_diff(q2[2], ez)
-        minor, minorl = _det3_exact(ux, uxl, uy, uyl, uz, uzl, vx, vxl, vy, vyl, vz, vzl,
-                                    wx, wxl, wy, wyl, wz, wzl)
+        minor, minorl = _det3_exact((ux, uxl, uy, uyl, uz, uzl), (vx, vxl, vy, vyl, vz, vzl),
+                                    (wx, wxl, wy, wyl, wz, wzl))
         term, terml = expansion_product(lift, liftl, minor, minorl)
         # cofactor sign of column 4, row k: (-1)^(k+3); rows are (a-e, b-e, c-e, d-e)
         if k % 2 == 0:
