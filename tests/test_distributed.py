@@ -168,6 +168,27 @@ def test_kd_tiles_are_balanced_on_clustered_data(rng):
     assert (near == near.T).all() and near.diagonal().all() and not near.all()
 
 
+@pytest.mark.parametrize("n,chunk_rows,tiles", [(1200, 400, 3), (6000, 150, 30)])
+def test_the_graph_grows_as_tiles_plus_chunks(rng, n, chunk_rows, tiles):
+    """The partition is a shuffle through files: a task per chunk and per
+    tile, not per pair (40 chunks x 30 tiles made 1,200 piece tasks); so is
+    verify's lookup of coordinates, and its border pairing is a tree."""
+    pts = rng.random((n, 2))
+    chunks = sources.chunks(pts, chunk_rows)
+    C = len(chunks)
+    engine = D.Serial()
+    tri = D.triangulate_on(chunks, engine, tiles=tiles, points=pts)
+    assert lfqt.verify(pts, tri).ok
+    assert tri.stats["chunks"] == C and tri.stats["tiles"] == tiles
+    assert tri.stats["tasks"]["measure"] == C
+    assert tri.stats["tasks"]["partition"] == partition.tasks(C, tiles) == C + 1 + 2 * tiles
+    before = engine.submitted
+    report = D.verify_on(tri, chunks, engine)
+    assert report.ok, report.problems
+    shares = tiles  # one share per tile's triangles; at 40 x 30, a product would be 1,200
+    assert engine.submitted - before <= 6 * (C + shares) + 10
+
+
 # --- the distributed check catches broken meshes ---------------------------------------------
 
 def _broken(tri, simplices):

@@ -45,9 +45,11 @@ class Serial:
     [3, [1, 2]]
     """
     workers = 1
+    submitted = 0  # tasks run so far (the graph's size, as on Dask)
 
     def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None) -> Any:
         """``fn(*args)``, now."""
+        self.submitted += 1
         return fn(*args)
 
     def put(self, array: Any) -> Any:
@@ -98,6 +100,7 @@ class Dask:
                 self.client = client
             self._own = own.pop_all()
         self.progress = sys.stderr.isatty() if progress is None else progress
+        self.submitted = 0  # tasks submitted so far: the graph's size
 
     @property
     def workers(self) -> int:
@@ -105,6 +108,7 @@ class Dask:
 
     def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None) -> Any:
         """A future of ``fn(*args)``, retried twice; ``key`` names it."""
+        self.submitted += 1
         return self.client.submit(fn, *args, pure=False, retries=2,
                                   **({"key": f"{key}-{os.urandom(4).hex()}"} if key else {}))
 

@@ -1,0 +1,113 @@
+"""A shuffle through files: each writer sorts its rows by destination and
+writes one file, with the offsets of every destination's rows at its head;
+each reader reads its own range of every file.  The graph holds one task
+per writer and one per reader (not one per pair), and the data waits on
+disk rather than in the workers' memory.
+
+A file is ``.npy`` arrays one after another: the offsets (int64, parts + 1),
+then the arrays, each with one row per item.  A reader seeks to its rows;
+no file is read whole.  Files are written under a temporary name and
+renamed, so that a task run again (after a worker is lost) never leaves a
+half-written file under the final name.
+
+The directory must be visible to every worker (a local disk for a
+LocalCluster, a shared file system for a cluster of machines).
+"""
+import contextlib
+import errno
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+from numpy.lib import format as npformat
+
+
+class DiskFullError(OSError):
+    """The scratch or output directory ran out of space."""
+
+
+def write(path, starts, *arrays):
+    """Write ``starts`` (the offsets of each part's rows) and ``arrays``
+    (rows grouped by part) to ``path``; returns ``path`` as a str."""
+    path = str(path)
+    tmp = f"{path}.{os.getpid()}.part"
+    try:
+        with open(tmp, "wb") as f:
+            for a in (np.asarray(starts, dtype=np.int64), *arrays):
+                npformat.write_array(f, np.ascontiguousarray(a), allow_pickle=False)
+        os.replace(tmp, path)
+    except OSError as e:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if e.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise DiskFullError(e.errno, f"no space left to write {path!r}: free some disk or "
+                                f"give a directory with room (scratch= or out=)") from e
+        raise
+    return path
+
+
+def written(*paths):
+    """The writers' files, once all are written: one task between the
+    writers and the readers, so that the graph has writers + readers
+    edges, not their product."""
+    return list(paths)
+
+
+def read(path, part):
+    """The rows of part ``part`` of every array in the file, as a list."""
+    with open(path, "rb") as f:
+        starts = _next(f)
+        lo, hi = int(starts[part]), int(starts[part + 1])
+        return _rows(f, lo, hi)
+
+
+def read_all(path):
+    """Every array of the file, whole (after the offsets)."""
+    with open(path, "rb") as f:
+        starts = _next(f)
+        return _rows(f, 0, int(starts[-1]))
+
+
+def _rows(f, lo, hi):
+    out = []
+    while True:
+        try:
+            shape, dtype = _header(f)
+        except EOFError:
+            return out
+        row = int(np.prod(shape[1:], dtype=np.int64)) * dtype.itemsize
+        begin = f.tell()
+        f.seek(begin + lo * row)
+        data = np.fromfile(f, dtype=dtype, count=(hi - lo) * (row // dtype.itemsize))
+        out.append(data.reshape((hi - lo,) + tuple(shape[1:])))
+        f.seek(begin + shape[0] * row)
+
+
+def _header(f):
+    if not f.read(1):
+        raise EOFError
+    f.seek(-1, os.SEEK_CUR)
+    version = npformat.read_magic(f)
+    reader = npformat.read_array_header_1_0 if version == (1, 0) else npformat.read_array_header_2_0
+    shape, fortran, dtype = reader(f)
+    if fortran:
+        raise ValueError("shuffle files hold C-ordered arrays")
+    return shape, dtype
+
+
+def _next(f):
+    shape, dtype = _header(f)
+    return np.fromfile(f, dtype=dtype, count=int(np.prod(shape, dtype=np.int64)))
+
+
+def remove(directory):
+    """Remove a scratch directory and everything in it."""
+    shutil.rmtree(directory, ignore_errors=True)
+
+
+def directory(base, name):
+    """A fresh directory ``name`` under ``base``."""
+    d = Path(base) / name
+    d.mkdir(parents=True, exist_ok=True)
+    return str(d)
