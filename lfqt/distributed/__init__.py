@@ -265,7 +265,7 @@ def _triangulate(chunk_list, engine, tiles, out, fmt, points, work, t0, plan):
         t_round = time.perf_counter()
         stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
                                     boxes, out, None if everywhere else near[t],
-                                    key=f"round{len(history) + 1}-tile{t}")
+                                    key=f"round{len(history) + 1}-tile{t}", where=t)
                    for t in active}
         summaries = engine.gather([engine.submit(getitem, s, 2, key="summary")
                                    for s in stepped.values()], f"round {len(history) + 1}")
@@ -290,7 +290,7 @@ def _triangulate(chunk_list, engine, tiles, out, fmt, points, work, t0, plan):
     t_rounds = time.perf_counter()
 
     finished = engine.gather([engine.submit(tile_tasks.finish, t, local[t], state[t], out, fmt,
-                                            key="finish") for t in live], "finish")
+                                            key="finish", where=t) for t in live], "finish")
     if out is not None:
         engine.gather([engine.submit(tile_tasks.cleanup, state[t], key="cleanup") for t in live])
     t_finish = time.perf_counter()
@@ -352,7 +352,7 @@ def _tiles(chunk_list, starts, scale_exp, nodes, T, engine, work):
                           os.path.join(work, f"chunk-{c:06d}.npy"), key="cut")
             for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
     paths = engine.submit(shuffle.written, *cuts, key="written")
-    return [engine.submit(partition.tile, t, paths, key=f"tile-{t}") for t in range(T)]
+    return [engine.submit(partition.tile, t, paths, key=f"tile-{t}", where=t) for t in range(T)]
 
 
 class Tiles(list[str]):
