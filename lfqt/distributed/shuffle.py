@@ -33,18 +33,29 @@ def write(path, starts, *arrays):
     path = str(path)
     tmp = f"{path}.{os.getpid()}.part"
     try:
-        with open(tmp, "wb") as f:
+        with writing(path), open(tmp, "wb") as f:
             for a in (np.asarray(starts, dtype=np.int64), *arrays):
                 npformat.write_array(f, np.ascontiguousarray(a), allow_pickle=False)
         os.replace(tmp, path)
-    except OSError as e:
+    except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
-        if e.errno in (errno.ENOSPC, errno.EDQUOT):
-            raise DiskFullError(e.errno, f"no space left to write {path!r}: free some disk or "
-                                f"give a directory with room (scratch= or out=)") from e
         raise
     return path
+
+
+@contextlib.contextmanager
+def writing(path):
+    """A full disk while writing ``path`` raises DiskFullError (ENOSPC,
+    EDQUOT, or Arrow's words for them), naming the file."""
+    try:
+        yield
+    except OSError as e:
+        if e.errno in (errno.ENOSPC, errno.EDQUOT) or "No space left" in str(e):
+            raise DiskFullError(errno.ENOSPC, f"no space left to write {str(path)!r}: free "
+                                f"some disk, or give a directory with room (scratch= or "
+                                f"out=)") from e
+        raise
 
 
 def written(*paths):

@@ -21,7 +21,7 @@ closed outer half-planes.
 import numpy as np
 
 from ..dc import triangulate
-from . import geometry, partition
+from . import geometry, partition, shuffle
 from .engine import _peak_rss
 
 EMPTY_IDS = np.empty(0, dtype=np.int64)
@@ -154,7 +154,8 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
         if out is not None:
             from pathlib import Path
             path = Path(out) / f"tile-{me:05d}.interior.npy"
-            np.save(path, state["interior"])
+            with shuffle.writing(path):
+                np.save(path, state["interior"])
             state["interior"] = str(path)
     send_home = np.where(home < 0, me, home)
     ok = send_home[v] != j  # a tile knows its own points
@@ -262,12 +263,13 @@ def finish(me, local, state, out=None, fmt="npy"):
         return G, (state["dup"], state["rep"]), info
     from pathlib import Path
     path = Path(out) / f"tile-{me:05d}.{fmt}"
-    if fmt == "npy":
-        np.save(path, G)
-    else:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-        pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
+    with shuffle.writing(path):
+        if fmt == "npy":
+            np.save(path, G)
+        else:
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+            pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
     return str(path), (state["dup"], state["rep"]), info
 
 
