@@ -93,18 +93,35 @@ def cut_chunk(kind, what, start, scale_exp, nodes, tiles, path):
     tile = assign(P, nodes)
     order = np.argsort(tile, kind="stable")
     starts = np.searchsorted(tile[order], np.arange(tiles + 1))
-    return shuffle.write(path, starts, start + order.astype(np.int64), np.take(P, order, axis=0))
+    P = np.take(P, order, axis=0)
+    return shuffle.write(path, starts, start + order.astype(np.int64), P,
+                         summary=_boxes(P, starts))
+
+
+@njit(cache=True)
+def _boxes(P, starts):
+    """Each part's box (x0, y0, x1, y1), NaN when empty."""
+    out = np.full((len(starts) - 1, 4), np.nan)
+    for t in range(len(starts) - 1):
+        if starts[t + 1] > starts[t]:
+            lo = starts[t]
+            x0, y0, x1, y1 = P[lo, 0], P[lo, 1], P[lo, 0], P[lo, 1]
+            for i in range(lo + 1, starts[t + 1]):
+                x0, x1 = min(x0, P[i, 0]), max(x1, P[i, 0])
+                y0, y1 = min(y0, P[i, 1]), max(y1, P[i, 1])
+            out[t] = (x0, y0, x1, y1)
+    return out
 
 
 def tile(t, paths):
     """Tile t's descriptor: the files holding its points (part t of each),
-    how many there are, and its box (NaN when empty).  The points stay on
-    disk until a task needs them (``load``)."""
-    mine = load(dict(t=t, paths=paths))
-    P = mine["P"]
-    box = (np.array([P[:, 0].min(), P[:, 1].min(), P[:, 0].max(), P[:, 1].max()])
-           if len(P) else np.full(4, np.nan))
-    return dict(t=t, paths=paths, n=len(P), box=box)
+    how many there are, and its box (NaN when empty), from the files'
+    heads.  The points stay on disk until a task needs them (``load``)."""
+    heads = [shuffle.summary(p, t) for p in paths]
+    n = sum(h[0] for h in heads)
+    boxes = np.array([h[1] for h in heads if h[0]]).reshape(-1, 4)
+    box = (np.r_[boxes[:, :2].min(0), boxes[:, 2:].max(0)] if n else np.full(4, np.nan))
+    return dict(t=t, paths=paths, n=n, box=box)
 
 
 def load(local):

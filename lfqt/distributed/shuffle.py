@@ -5,7 +5,8 @@ per writer and one per reader (not one per pair), and the data waits on
 disk rather than in the workers' memory.
 
 A file is ``.npy`` arrays one after another: the offsets (int64, parts + 1),
-then the arrays, each with one row per item.  A reader seeks to its rows;
+a summary (float64, one row per part, maybe no columns), then the arrays,
+each with one row per item.  A reader seeks to its rows;
 no file is read whole.  Files are written under a temporary name and
 renamed, so that a task run again (after a worker is lost) never leaves a
 half-written file under the final name.
@@ -27,14 +28,18 @@ class DiskFullError(OSError):
     """The scratch or output directory ran out of space."""
 
 
-def write(path, starts, *arrays):
-    """Write ``starts`` (the offsets of each part's rows) and ``arrays``
-    (rows grouped by part) to ``path``; returns ``path`` as a str."""
+def write(path, starts, *arrays, summary=None):
+    """Write ``starts`` (the offsets of each part's rows), ``summary`` (a
+    row of floats per part, or nothing) and ``arrays`` (rows grouped by
+    part) to ``path``; returns ``path`` as a str."""
     path = str(path)
+    if summary is None:
+        summary = np.empty((len(starts) - 1, 0))
     tmp = f"{path}.{os.getpid()}.part"
     try:
         with writing(path), open(tmp, "wb") as f:
-            for a in (np.asarray(starts, dtype=np.int64), *arrays):
+            for a in (np.asarray(starts, dtype=np.int64),
+                      np.asarray(summary, dtype=np.float64), *arrays):
                 npformat.write_array(f, np.ascontiguousarray(a), allow_pickle=False)
         os.replace(tmp, path)
     except BaseException:
@@ -69,20 +74,22 @@ def read(path, part):
     """The rows of part ``part`` of every array in the file, as a list."""
     with open(path, "rb") as f:
         starts = _next(f)
+        _rows(f, 0, 0, 1)  # the summary
         lo, hi = int(starts[part]), int(starts[part + 1])
         return _rows(f, lo, hi)
 
 
-def read_all(path):
-    """Every array of the file, whole (after the offsets)."""
+def summary(path, part):
+    """(rows of part ``part``, its summary row), reading the head only."""
     with open(path, "rb") as f:
         starts = _next(f)
-        return _rows(f, 0, int(starts[-1]))
+        return int(starts[part + 1] - starts[part]), _rows(f, part, part + 1, 1)[0][0]
 
 
-def _rows(f, lo, hi):
+def _rows(f, lo, hi, arrays=None):
+    """Rows lo:hi of the next ``arrays`` arrays (default: all the rest)."""
     out = []
-    while True:
+    while arrays is None or len(out) < arrays:
         try:
             shape, dtype = _header(f)
         except EOFError:
@@ -93,6 +100,7 @@ def _rows(f, lo, hi):
         data = np.fromfile(f, dtype=dtype, count=(hi - lo) * (row // dtype.itemsize))
         out.append(data.reshape((hi - lo,) + tuple(shape[1:])))
         f.seek(begin + shape[0] * row)
+    return out
 
 
 def _header(f):
