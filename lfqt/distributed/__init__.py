@@ -504,16 +504,17 @@ def _verify(result, chunk_list, engine, work):
 
     # the coordinates of each share's vertices: two shuffles through files
     shares = _shares(result, engine)
-    requested = engine.submit(shuffle.written, *[
-        engine.submit(ck.requests, kind, what, starts, os.path.join(work, f"share-{s:06d}.npy"),
-                      key="requests") for s, (kind, what) in enumerate(shares)], key="written")
+    reqs = [engine.submit(ck.requests, kind, what, starts, os.path.join(work, f"share-{s:06d}.npy"),
+                          key="requests") for s, (kind, what) in enumerate(shares)]
+    requested = engine.submit(shuffle.written, *[engine.submit(getitem, r, 0, key="path")
+                                                 for r in reqs], key="written")
     found = [engine.submit(ck.lookup, kind, what, int(s), scale_exp, c, requested,
                            os.path.join(work, f"found-{c:06d}.npy"), key="lookup")
              for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
     found_paths = engine.submit(shuffle.written, *[engine.submit(getitem, f, 0, key="path")
                                                    for f in found], key="written")
-    checked = [engine.submit(ck.check_share, kind, what, starts, s, found_paths, key="check")
-               for s, (kind, what) in enumerate(shares)]
+    checked = [engine.submit(ck.check_share, s, r, found_paths, key="check")
+               for s, r in enumerate(reqs)]
     counts: dict[str, int] = {}
     parts = engine.gather([engine.submit(getitem, x, 0, key="counts") for x in checked],
                           "check shares")

@@ -41,7 +41,7 @@ def share_triangles(kind, what):
 def _share(kind, what, starts):
     """(triangles in share-local vertex numbers, their sorted global ids,
     how many triangles name a vertex that is no point; those are left
-    out).  Computed again where needed rather than kept in memory."""
+    out)."""
     S = share_triangles(kind, what)
     inside = ((S >= 0) & (S < starts[-1])).all(axis=1)
     ids, L = _unique_inverse(S[inside].ravel())
@@ -50,9 +50,14 @@ def _share(kind, what, starts):
 
 def requests(kind, what, starts, path):
     """Write the share's vertex ids, grouped by the chunk that holds them
-    (part c: chunk c), to a shuffle file; returns its path."""
-    _, ids, _ = _share(kind, what, starts)
-    return shuffle.write(path, np.searchsorted(ids, starts), ids)
+    (part c: chunk c), to a shuffle file, and its triangles in their
+    numbers beside it (``check_share`` reads both: they wait on disk, not
+    in memory); returns (the shuffle file's path, how many triangles name
+    a vertex that is no point)."""
+    L, ids, unknown = _share(kind, what, starts)
+    with shuffle.writing(path):
+        np.save(f"{path}.triangles.npy", L)
+    return shuffle.write(path, np.searchsorted(ids, starts), ids), unknown
 
 
 def _unique_inverse(x):
@@ -85,11 +90,15 @@ def _distinct(x):
     return int(np.count_nonzero(xs[1:] != xs[:-1])) + 1
 
 
-def check_share(kind, what, starts, s, found):
+def check_share(s, request, found):
     """Checks 1 and 2 inside share ``s``: (counts, border edges (u, v, w)
-    and their coordinates); ``found``: the lookups' files, whose part s
-    holds the share's coordinates, chunk by chunk in id order."""
-    L, ids, unknown = _share(kind, what, starts)
+    and their coordinates); ``request``: what ``requests`` returned for it,
+    ``found``: the lookups' files, whose part s holds the share's
+    coordinates, chunk by chunk in id order."""
+    path, unknown = request
+    L = np.load(f"{path}.triangles.npy")
+    ids = np.concatenate([shuffle.read(path, c)[0] for c in range(len(found))]
+                         + [np.empty(0, np.int64)])
     P = np.concatenate([shuffle.read(f, s)[0] for f in found] + [np.empty((0, 2))])
     bad_orient = _bad_orientation(P, L)
     a, b, w = _edges(L)
