@@ -7,8 +7,11 @@ distributed Delaunay triangulation", ISPRS Annals V-2-2020):
 
 1. one pass over the chunks measures them and draws a sample; a k-d split
    of the sample (median cuts) defines the tiles (lfqt.distributed.partition);
-2. a second pass cuts every chunk into tiles, and each tile gathers its
-   points on a worker;
+2. a second pass writes every chunk's points, grouped by tile, to one
+   file with the offsets of each tile's rows and its box at its head
+   (lfqt.distributed.shuffle); a tile reads its ranges of every file
+   when a round needs its points, so they wait on disk, and the graph
+   holds a task per chunk and per tile, never per pair;
 3. rounds: each tile triangulates its points and those it has received
    with ``lfqt.triangulate``, and sends to every other tile the vertices of
    each face whose closed circumdisk meets that tile's box, until no tile
