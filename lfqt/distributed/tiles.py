@@ -154,8 +154,11 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
         if out is not None:
             from pathlib import Path
             path = Path(out) / f"tile-{me:05d}.interior.npy"
+            interior = state["interior"]
+            if not len(interior) or interior.max() <= np.iinfo(np.int32).max:
+                interior = interior.astype(np.int32)  # half the disk while it waits
             with shuffle.writing(path):
-                np.save(path, state["interior"])
+                np.save(path, interior)
             state["interior"] = str(path)
     send_home = np.where(home < 0, me, home)
     ok = send_home[v] != j  # a tile knows its own points
@@ -254,7 +257,7 @@ def finish(me, local, state, out=None, fmt="npy"):
                            False))
     interior = state["interior"]
     if isinstance(interior, str):  # waiting in a file of ``out`` (step)
-        interior = np.load(interior)
+        interior = np.load(interior).astype(np.int64)
     G = np.concatenate((interior, rest))
     info = dict(tile=me, triangles=len(G), points=len(P), foreign=len(state["ids"]),
                 local=local["n"], rounds=state["rounds"], peak_rss=_peak_rss(),
