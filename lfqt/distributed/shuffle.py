@@ -18,7 +18,6 @@ import contextlib
 import errno
 import os
 import shutil
-from pathlib import Path
 
 import numpy as np
 from numpy.lib import format as npformat
@@ -123,10 +122,3 @@ def _next(f):
 def remove(directory):
     """Remove a scratch directory and everything in it."""
     shutil.rmtree(directory, ignore_errors=True)
-
-
-def directory(base, name):
-    """A fresh directory ``name`` under ``base``."""
-    d = Path(base) / name
-    d.mkdir(parents=True, exist_ok=True)
-    return str(d)
