@@ -168,6 +168,27 @@ def test_kd_tiles_are_balanced_on_clustered_data(rng):
     assert (near == near.T).all() and near.diagonal().all() and not near.all()
 
 
+@pytest.mark.parametrize("n,chunk_rows,tiles", [(1200, 400, 3), (6000, 150, 30)])
+def test_the_graph_grows_as_tiles_plus_chunks(rng, n, chunk_rows, tiles):
+    """The partition is a shuffle through files: a task per chunk and per
+    tile, not per pair (40 chunks x 30 tiles made 1,200 piece tasks); so is
+    verify's lookup of coordinates, and its border pairing is a tree."""
+    pts = rng.random((n, 2))
+    chunks = sources.chunks(pts, chunk_rows)
+    C = len(chunks)
+    engine = D.Serial()
+    tri = D.triangulate_on(chunks, engine, tiles=tiles, points=pts)
+    assert lfqt.verify(pts, tri).ok
+    assert tri.stats["chunks"] == C and tri.stats["tiles"] == tiles
+    assert tri.stats["tasks"]["measure"] == C
+    assert tri.stats["tasks"]["partition"] == partition.tasks(C, tiles) == C + 1 + 2 * tiles
+    before = engine.submitted
+    report = D.verify_on(tri, chunks, engine)
+    assert report.ok, report.problems
+    shares = tiles  # one share per tile's triangles; at 40 x 30, a product would be 1,200
+    assert engine.submitted - before <= 6 * (C + shares) + 10
+
+
 # --- the distributed check catches broken meshes ---------------------------------------------
 
 def _broken(tri, simplices):
@@ -407,3 +428,55 @@ def test_dask_worker_loss_is_retried(client, cloud, reference):
 
 def _round_two_started(dask_scheduler):
     return any("round2" in str(k) for k in dask_scheduler.tasks)
+
+
+def _started(prefix):
+    def check(dask_scheduler):
+        return any(str(k).startswith(prefix) for k in dask_scheduler.tasks)
+    return check
+
+
+def test_dask_worker_loss_during_verify_is_retried(client, cloud):
+    """A worker killed while verify's shuffles run: the lost results are
+    computed again from the files on disk, and the verdict and counts are
+    those of the mesh."""
+    tri = lfqt.triangulate(cloud)
+    done = {}
+    worker = threading.Thread(target=lambda: done.update(
+        report=D.verify(tri, cloud, client=client, progress=False)))
+    before = set(client.scheduler_info()["workers"])
+    worker.start()
+    deadline = time.time() + 120
+    while not client.run_on_scheduler(_started("check")) and time.time() < deadline:
+        time.sleep(0.05)
+    assert worker.is_alive(), "verify ended before a worker could be lost"
+    pids = client.run(os.getpid)
+    os.kill(pids[sorted(pids)[-1]], signal.SIGKILL)  # the nanny restarts it
+    worker.join(300)
+    report = done["report"]
+    assert report.ok, report.problems
+    assert report.counts["triangles"] == len(tri.simplices)
+    assert report.counts["distinct_points"] == report.counts["vertices"] == len(cloud)
+    assert set(client.scheduler_info()["workers"]) != before
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_dask_a_full_disk_is_a_clear_error_and_leaves_nothing(client, tmp_path):
+    """A tile's file cannot be written (the kernel says ENOSPC: the name is
+    a link to /dev/full): a DiskFullError naming the file, and the call
+    removes what it wrote (tiles' files, the partition's scratch)."""
+    pts = np.random.default_rng(5).random((20_000, 2))
+    os.symlink("/dev/full", tmp_path / "tile-00001.npy")
+    with pytest.raises(D.shuffle.DiskFullError, match="no space left to write .*tile-00001"):
+        D.triangulate(pts, client=client, tiles=3, out=tmp_path, progress=False)
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_a_full_scratch_disk_leaves_no_partial_file(tmp_path):
+    from lfqt.distributed import shuffle
+    target = tmp_path / "chunk-000000.npy"
+    os.symlink("/dev/full", f"{target}.{os.getpid()}.part")
+    with pytest.raises(shuffle.DiskFullError, match="no space left"):
+        shuffle.write(target, [0, 2], np.arange(2), np.zeros((2, 2)))
+    assert os.listdir(tmp_path) == []

@@ -7,8 +7,11 @@ distributed Delaunay triangulation", ISPRS Annals V-2-2020):
 
 1. one pass over the chunks measures them and draws a sample; a k-d split
    of the sample (median cuts) defines the tiles (lfqt.distributed.partition);
-2. a second pass cuts every chunk into tiles, and each tile gathers its
-   points on a worker;
+2. a second pass writes every chunk's points, grouped by tile, to one
+   file with the offsets of each tile's rows and its box at its head
+   (lfqt.distributed.shuffle); a tile reads its ranges of every file
+   when a round needs its points, so they wait on disk, and the graph
+   holds a task per chunk and per tile, never per pair;
 3. rounds: each tile triangulates its points and those it has received
    with ``lfqt.triangulate``, and sends to every other tile the vertices of
    each face whose closed circumdisk meets that tile's box, until no tile
@@ -40,7 +43,7 @@ import numpy.typing as npt
 
 from .._input import MAX_EXP, MIN_ULP_EXP, window_exponent
 from ..triangulation import Triangulation
-from . import partition, sources, tiles as tile_tasks
+from . import partition, shuffle, sources, tiles as tile_tasks
 from .engine import Dask, Serial
 
 if TYPE_CHECKING:
@@ -57,14 +60,15 @@ Engine = Union[Dask, Serial]
 
 SAMPLE_SIZE = 1 << 17  # points drawn to place the k-d cuts
 NEIGHBOUR_ROUNDS = 2  # rounds of the first phase (see step 3 above)
+BORDER_FANIN = 8  # shares' borders paired per task of verify's reduction tree
 SEED = 0
 FORMATS = ("npy", "parquet")
 
 
 def triangulate(points: Points, *, client: Client | str | None = None,
                 tiles: int | np.integer[Any] | None = None, out: str | os.PathLike | None = None,
-                format: Literal["npy", "parquet"] = "npy",
-                progress: bool | None = None) -> Triangulation | Tiles:
+                format: Literal["npy", "parquet"] = "npy", progress: bool | None = None,
+                scratch: str | os.PathLike | None = None) -> Triangulation | Tiles:
     """Exact 2D Delaunay triangulation on a Dask cluster (Tile & Merge).
 
     Parameters
@@ -93,6 +97,10 @@ def triangulate(points: Points, *, client: Client | str | None = None,
         Parquet columns a, b, c.
     progress : bool or None
         A progress bar per phase (default: when stderr is a terminal).
+    scratch : str or None
+        Where the partition's files wait (a directory every worker sees;
+        default: inside ``out``, else a temporary directory).  They take
+        about 24 bytes per point and are removed before the call returns.
 
     Returns
     -------
@@ -100,13 +108,17 @@ def triangulate(points: Points, *, client: Client | str | None = None,
         The triangulation (int64 global ids), or with ``out`` the list of
         the files written (:class:`Tiles`).  Either has ``.stats``: tiles,
         rounds, points sent per round, points received per tile, peak
-        memory per worker, seconds per phase.
+        memory per worker, seconds per phase, and the tasks per phase.
 
     Raises
     ------
     ValueError
         A bad ``format`` or ``tiles``, points that are not (n, 2), NaN or
         infinite, or that span more binades than the predicates' window.
+    lfqt.distributed.shuffle.DiskFullError
+        ``scratch`` or ``out`` ran out of space.  Whatever the call wrote
+        is removed (the tiles' files of ``out`` and the partition's): the
+        call is not resumable, free the space and call it again.
 
     See Also
     --------
@@ -137,7 +149,7 @@ def triangulate(points: Points, *, client: Client | str | None = None,
     if tiles is not None and (not isinstance(tiles, (int, np.integer)) or tiles < 1):
         raise ValueError(f"tiles must be a positive integer or None, got {tiles!r}")
     with _on_dask(points, client, progress) as (chunk_list, engine):
-        return triangulate_on(chunk_list, engine, tiles, out, format, points)
+        return triangulate_on(chunk_list, engine, tiles, out, format, points, scratch)
 
 
 @contextlib.contextmanager
@@ -162,7 +174,8 @@ def _on_dask(points: Points, client: Client | str | None,
 def triangulate_on(chunk_list: list[Chunk], engine: Engine,
                    tiles: int | np.integer[Any] | None = None,
                    out: str | os.PathLike | None = None, fmt: Literal["npy", "parquet"] = "npy",
-                   points: Points | None = None) -> Triangulation | Tiles:
+                   points: Points | None = None,
+                   scratch: str | os.PathLike | None = None) -> Triangulation | Tiles:
     """Tile & Merge over chunks, on an engine: ``triangulate`` without the
     validation of its arguments and the cluster it starts.
 
@@ -180,6 +193,8 @@ def triangulate_on(chunk_list: list[Chunk], engine: Engine,
     points : array_like (n, 2) or None
         The points of the returned Triangulation when ``out`` is None; None
         or anything but an ndarray: the chunks, read back.
+    scratch : str or None
+        As for ``triangulate``.
 
     Returns
     -------
@@ -199,17 +214,49 @@ def triangulate_on(chunk_list: list[Chunk], engine: Engine,
     True
     """
     t0 = time.perf_counter()
+    work = _scratch(scratch, out)
+    plan: dict[str, int] = {}
+    try:
+        return _triangulate(chunk_list, engine, tiles, out, fmt, points, work, t0, plan)
+    except BaseException:
+        if out is not None:  # a partial output is useless: no call resumes it
+            _remove_output(out, plan.get("tiles", 0), fmt)
+        raise
+    finally:
+        shuffle.remove(work)
+
+
+def _scratch(scratch, out):
+    """A fresh directory for the partition's files: under ``scratch``, else
+    under ``out``, else a temporary one."""
+    import tempfile
+    base = scratch if scratch is not None else out
+    if base is not None:
+        os.makedirs(base, exist_ok=True)
+    return tempfile.mkdtemp(prefix=".lfqt-scratch-", dir=base)
+
+
+def _remove_output(out, tiles, fmt):
+    """Remove the files a failed call may have written to ``out``."""
+    for t in range(tiles):
+        for suffix in (fmt, "interior.npy"):
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(out, f"tile-{t:05d}.{suffix}"))
+
+
+def _triangulate(chunk_list, engine, tiles, out, fmt, points, work, t0, plan):
+    tasks0 = engine.submitted
     starts, scale_exp, sample = _measure(chunk_list, engine)
     n = int(starts[-1])
     T = int(tiles or partition.auto_tiles(n, engine.workers))
     nodes, cells = partition.kd_tree(sample, T)
-    t_measure = time.perf_counter()
+    plan["tiles"] = T
+    t_measure, tasks_measure = time.perf_counter(), engine.submitted
 
-    local, cuts = _tiles(chunk_list, starts, scale_exp, nodes, T, engine)
+    local = _tiles(chunk_list, starts, scale_exp, nodes, T, engine, work)
     boxes = np.array(engine.gather([engine.submit(getitem, loc, "box", key="box") for loc in local],
                                    "partition"))
-    engine.release(cuts)
-    t_partition = time.perf_counter()
+    t_partition, tasks_partition = time.perf_counter(), engine.submitted
 
     live = [t for t in range(T) if not np.isnan(boxes[t, 0])]
     state = {t: tile_tasks.new_state(T) for t in live}
@@ -221,7 +268,7 @@ def triangulate_on(chunk_list: list[Chunk], engine: Engine,
         t_round = time.perf_counter()
         stepped = {t: engine.submit(tile_tasks.step, t, local[t], state[t], inbox[t], cells[t],
                                     boxes, out, None if everywhere else near[t],
-                                    key=f"round{len(history) + 1}-tile{t}")
+                                    key=f"round{len(history) + 1}-tile{t}", where=t)
                    for t in active}
         summaries = engine.gather([engine.submit(getitem, s, 2, key="summary")
                                    for s in stepped.values()], f"round {len(history) + 1}")
@@ -246,10 +293,12 @@ def triangulate_on(chunk_list: list[Chunk], engine: Engine,
     t_rounds = time.perf_counter()
 
     finished = engine.gather([engine.submit(tile_tasks.finish, t, local[t], state[t], out, fmt,
-                                            key="finish") for t in live], "finish")
+                                            key="finish", where=t) for t in live], "finish")
     if out is not None:
         engine.gather([engine.submit(tile_tasks.cleanup, state[t], key="cleanup") for t in live])
     t_finish = time.perf_counter()
+    tasks = {"measure": tasks_measure - tasks0, "partition": tasks_partition - tasks_measure,
+             "rounds and finish": engine.submitted - tasks_partition}
     info = [f[2] for f in finished]
     result_stats = {
         "tiles": T, "rounds": len(history), "scale_exponent": scale_exp,
@@ -264,7 +313,7 @@ def triangulate_on(chunk_list: list[Chunk], engine: Engine,
         "seconds": {"measure": t_measure - t0, "partition": t_partition - t_measure,
                     "rounds": t_rounds - t_partition, "finish": t_finish - t_rounds,
                     "total": t_finish - t0},
-        "workers": engine.workers,
+        "workers": engine.workers, "chunks": len(chunk_list), "tasks": tasks,
     }
     if out is not None:
         return Tiles([f[0] for f in finished], n=n, stats=result_stats)
@@ -298,15 +347,15 @@ def _measure(chunk_list, engine):
     return starts, scale_exp, sample
 
 
-def _tiles(chunk_list, starts, scale_exp, nodes, T, engine):
-    """The second pass: (each tile's local points as a future, the cut
-    chunks, to release once the tiles no longer need them)."""
-    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T, key="cut")
-            for (kind, what, _), s in zip(chunk_list, starts)]
-    local = [engine.submit(partition.gather_tile,
-                           *[engine.submit(partition.piece, c, t, key="piece") for c in cuts],
-                           key=f"tile-{t}") for t in range(T)]
-    return local, cuts
+def _tiles(chunk_list, starts, scale_exp, nodes, T, engine, work):
+    """The second pass, a shuffle through files in ``work``: every chunk
+    writes its points grouped by tile to one file, and each tile's
+    descriptor (a future) names its parts (lfqt.distributed.partition)."""
+    cuts = [engine.submit(partition.cut_chunk, kind, what, int(s), scale_exp, nodes, T,
+                          os.path.join(work, f"chunk-{c:06d}.npy"), key="cut")
+            for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
+    paths = engine.submit(shuffle.written, *cuts, key="written")
+    return [engine.submit(partition.tile, t, paths, key=f"tile-{t}", where=t) for t in range(T)]
 
 
 class Tiles(list[str]):
@@ -393,7 +442,8 @@ def _hull(points, a, b):
 
 
 def verify(result: Triangulation | Sequence[str | os.PathLike], points: Points, *,
-           client: Client | str | None = None, progress: bool | None = None) -> VerifyReport:
+           client: Client | str | None = None, progress: bool | None = None,
+           scratch: str | os.PathLike | None = None) -> VerifyReport:
     """Exactly check a distributed triangulation share by share
     (lfqt.distributed.check), without loading the whole point set on one
     process.
@@ -408,6 +458,9 @@ def verify(result: Triangulation | Sequence[str | os.PathLike], points: Points, 
     client, progress
         As for ``triangulate`` (None: a LocalCluster for this call, which
         a script may start at top level).
+    scratch : str or None
+        Where the check's files wait (a directory every worker sees;
+        default: a temporary directory), removed before the call returns.
 
     Returns
     -------
@@ -435,7 +488,53 @@ def verify(result: Triangulation | Sequence[str | os.PathLike], points: Points, 
     True
     """
     with _on_dask(points, client, progress) as (chunk_list, engine):
-        return verify_on(result, chunk_list, engine)
+        return verify_on(result, chunk_list, engine, scratch)
+
+
+def _verify(result, chunk_list, engine, work):
+    """verify_on's shuffles and its reduction: (counts, the hull loop (a
+    future: it stays on the cluster), distinct points, ids used per chunk,
+    the scale exponent)."""
+    from . import check as ck
+    starts, scale_exp, sample = _measure(chunk_list, engine)
+    # 4: distinct points, counted tile by tile (equal points share a tile)
+    T = partition.auto_tiles(int(starts[-1]), engine.workers)
+    nodes, _ = partition.kd_tree(sample, T)
+    local = _tiles(chunk_list, starts, scale_exp, nodes, T, engine, work)
+    distinct = sum(engine.gather([engine.submit(ck.tile_distinct, loc, key="distinct")
+                                  for loc in local], "distinct points"))
+    engine.release(local)
+
+    # the coordinates of each share's vertices: two shuffles through files
+    shares = _shares(result, engine)
+    reqs = [engine.submit(ck.requests, kind, what, starts, os.path.join(work, f"share-{s:06d}.npy"),
+                          key="requests") for s, (kind, what) in enumerate(shares)]
+    requested = engine.submit(shuffle.written, *[engine.submit(getitem, r, 0, key="path")
+                                                 for r in reqs], key="written")
+    found = [engine.submit(ck.lookup, kind, what, int(s), scale_exp, c, requested,
+                           os.path.join(work, f"found-{c:06d}.npy"), key="lookup")
+             for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
+    found_paths = engine.submit(shuffle.written, *[engine.submit(getitem, f, 0, key="path")
+                                                   for f in found], key="written")
+    checked = [engine.submit(ck.check_share, s, r, found_paths, key="check")
+               for s, r in enumerate(reqs)]
+    counts: dict[str, int] = {}
+    parts = engine.gather([engine.submit(getitem, x, 0, key="counts") for x in checked],
+                          "check shares")
+    # the borders, paired up a tree: each node's edges without a twin go up
+    level = [engine.submit(getitem, x, 1, key="border") for x in checked]
+    while len(level) > BORDER_FANIN:
+        nodes_ = [engine.submit(ck.pair_borders, *level[i:i + BORDER_FANIN], key="pair")
+                  for i in range(0, len(level), BORDER_FANIN)]
+        parts += engine.gather([engine.submit(getitem, x, 0, key="counts") for x in nodes_])
+        level = [engine.submit(getitem, x, 1, key="border") for x in nodes_]
+    border = engine.submit(ck.check_border, *level, key="hull")
+    parts += engine.gather([engine.submit(getitem, border, 0, key="counts")])
+    for part in parts:
+        for k, v in part.items():
+            counts[k] = counts.get(k, 0) + int(v)
+    used = engine.gather([engine.submit(getitem, f, 1, key="used") for f in found])
+    return counts, engine.submit(getitem, border, 1, key="hull"), distinct, used, scale_exp
 
 
 def _shares(result: Triangulation | Sequence[str | os.PathLike],
@@ -455,7 +554,7 @@ def _shares(result: Triangulation | Sequence[str | os.PathLike],
 
 
 def verify_on(result: Triangulation | Sequence[str | os.PathLike], chunk_list: list[Chunk],
-              engine: Engine) -> VerifyReport:
+              engine: Engine, scratch: str | os.PathLike | None = None) -> VerifyReport:
     """``verify`` over chunks, on an engine (as ``triangulate_on``).
 
     Parameters
@@ -466,6 +565,8 @@ def verify_on(result: Triangulation | Sequence[str | os.PathLike], chunk_list: l
         The points' chunks (``lfqt.distributed.sources.chunks``).
     engine : Serial or lfqt.distributed.engine.Dask
         Where the tasks run.
+    scratch : str or None
+        As for ``verify``.
 
     Returns
     -------
@@ -486,35 +587,16 @@ def verify_on(result: Triangulation | Sequence[str | os.PathLike], chunk_list: l
     """
     from ..verification import VerifyReport
     from . import check as ck
-    starts, scale_exp, sample = _measure(chunk_list, engine)
-    # 4: distinct points, counted tile by tile (equal points share a tile)
-    T = partition.auto_tiles(int(starts[-1]), engine.workers)
-    nodes, _ = partition.kd_tree(sample, T)
-    local, cuts = _tiles(chunk_list, starts, scale_exp, nodes, T, engine)
-    distinct = sum(engine.gather([engine.submit(ck.tile_distinct, loc) for loc in local],
-                                 "distinct points"))
-    engine.release(cuts + local)
-
-    shares = _shares(result, engine)
-    reqs = [engine.submit(ck.requests, kind, what, starts) for kind, what in shares]
-    found = [engine.submit(ck.lookup, kind, what, int(s), scale_exp,
-                           *[engine.submit(ck.request_piece, r, c) for r in reqs])
-             for c, ((kind, what, _), s) in enumerate(zip(chunk_list, starts))]
-    checked = [engine.submit(ck.check_share, r, *[engine.submit(ck.lookup_piece, f, s)
-                                                  for f in found])
-               for s, r in enumerate(reqs)]
-    counts: dict[str, int] = {}
+    work = _scratch(scratch, None)
+    try:
+        counts, H, distinct, used, scale_exp = _verify(result, chunk_list, engine, work)
+    finally:
+        shuffle.remove(work)
 
     def add(d: dict[str, Any]) -> None:
         for k, v in d.items():
             counts[k] = counts.get(k, 0) + int(v)
 
-    for c in engine.gather([engine.submit(getitem, x, 0) for x in checked], "check shares"):
-        add(c)
-    used = engine.gather([engine.submit(getitem, f, 1) for f in found])
-    border = engine.submit(ck.check_border, *[engine.submit(getitem, x, 1) for x in checked])
-    H = engine.submit(getitem, border, 1)  # the hull loop stays on the cluster
-    add(engine.gather([engine.submit(getitem, border, 0)])[0])
     if counts["triangles"]:
         add({"points_outside_hull": sum(engine.gather([
             engine.submit(ck.outside_hull, kind, what, scale_exp, H)

@@ -14,12 +14,16 @@ when:
 add up to the cycle's); with locally Delaunay edges the cover is the
 Delaunay triangulation of its vertices (Delaunay's lemma), and (4) makes
 those all of P.  Edges inside a share are paired there; the others, a
-share's border, are paired in one task.
+share's border, are paired up a tree of tasks (``pair_borders``), whose
+root holds the hull's edges only (``check_border``).  The coordinates
+travel by shuffle files: each share writes the ids it needs grouped by
+chunk, each chunk writes their coordinates grouped by share.
 """
 import numpy as np
 from numba import njit
 
 from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
+from . import partition, shuffle
 from .sources import read
 
 
@@ -34,16 +38,26 @@ def share_triangles(kind, what):
     return np.asarray(what, dtype=np.int64).reshape(-1, 3)
 
 
-def requests(kind, what, starts):
-    """(triangles, sorted vertex ids, the ids falling in each chunk, how
-    many triangles name a vertex that is no point; those are left out)."""
+def _share(kind, what, starts):
+    """(triangles in share-local vertex numbers, their sorted global ids,
+    how many triangles name a vertex that is no point; those are left
+    out)."""
     S = share_triangles(kind, what)
     inside = ((S >= 0) & (S < starts[-1])).all(axis=1)
-    S = S[inside]
-    ids, L = _unique_inverse(S.ravel())
-    cut = np.searchsorted(ids, starts)
-    return (L.reshape(-1, 3), ids, [ids[cut[c]:cut[c + 1]] for c in range(len(starts) - 1)],
-            int((~inside).sum()))
+    ids, L = _unique_inverse(S[inside].ravel())
+    return L.reshape(-1, 3), ids, int((~inside).sum())
+
+
+def requests(kind, what, starts, path):
+    """Write the share's vertex ids, grouped by the chunk that holds them
+    (part c: chunk c), to a shuffle file, and its triangles in their
+    numbers beside it (``check_share`` reads both: they wait on disk, not
+    in memory); returns (the shuffle file's path, how many triangles name
+    a vertex that is no point)."""
+    L, ids, unknown = _share(kind, what, starts)
+    with shuffle.writing(path):
+        np.save(f"{path}.triangles.npy", L)
+    return shuffle.write(path, np.searchsorted(ids, starts), ids), unknown
 
 
 def _unique_inverse(x):
@@ -57,16 +71,15 @@ def _unique_inverse(x):
     return xs[new], inverse
 
 
-def request_piece(req, c):
-    return req[2][c]
-
-
-def lookup(kind, what, start, scale_exp, *wanted):
-    """Coordinates (scaled) of each share's wanted ids in this chunk, and how
-    many distinct ids of the chunk are used at all."""
+def lookup(kind, what, start, scale_exp, c, requested, path):
+    """Write the coordinates (scaled) of what each share asked of chunk
+    ``c`` (part s: share s) to a shuffle file; returns (its path, how many
+    distinct ids of the chunk are used at all)."""
     P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
-    out = [P[w - start] for w in wanted]
-    return out, _distinct(np.concatenate(list(wanted) + [np.empty(0, np.int64)]))
+    wanted = [shuffle.read(r, c)[0] for r in requested]
+    w = np.concatenate(wanted + [np.empty(0, np.int64)])
+    starts = np.concatenate(([0], np.cumsum([len(x) for x in wanted], dtype=np.int64)))
+    return shuffle.write(path, starts, P[w - start]), _distinct(w)
 
 
 def _distinct(x):
@@ -77,15 +90,16 @@ def _distinct(x):
     return int(np.count_nonzero(xs[1:] != xs[:-1])) + 1
 
 
-def lookup_piece(found, s):
-    return found[0][s]
-
-
-def check_share(req, *coords):
-    """Checks 1 and 2 inside one share: (counts, border edges (u, v, w) and
-    their coordinates)."""
-    L, ids, _, unknown = req
-    P = np.concatenate(list(coords) + [np.empty((0, 2))])
+def check_share(s, request, found):
+    """Checks 1 and 2 inside share ``s``: (counts, border edges (u, v, w)
+    and their coordinates); ``request``: what ``requests`` returned for it,
+    ``found``: the lookups' files, whose part s holds the share's
+    coordinates, chunk by chunk in id order."""
+    path, unknown = request
+    L = np.load(f"{path}.triangles.npy")
+    ids = np.concatenate([shuffle.read(path, c)[0] for c in range(len(found))]
+                         + [np.empty(0, np.int64)])
+    P = np.concatenate([shuffle.read(f, s)[0] for f in found] + [np.empty((0, 2))])
     bad_orient = _bad_orientation(P, L)
     a, b, w = _edges(L)
     pairs, repeated, lone = _pair(a, b, len(ids))
@@ -153,12 +167,11 @@ def _not_locally_delaunay(P, a, b, w, pairs):
     return bad
 
 
-def check_border(*borders):
-    """Check 2 across shares and the cycle of check 3: (counts, the hull
-    loop's coordinates in order)."""
-    u = np.concatenate([b[0] for b in borders] + [np.empty(0, np.int64)])
-    v = np.concatenate([b[1] for b in borders] + [np.empty(0, np.int64)])
-    w = np.concatenate([b[2] for b in borders] + [np.empty(0, np.int64)])
+def pair_borders(*borders):
+    """Check 2 across a few shares' borders (one node of the reduction
+    tree): (counts, the edges still without a twin, passed up)."""
+    u, v, w = (np.concatenate([b[k] for b in borders] + [np.empty(0, np.int64)])
+               for k in (0, 1, 2))
     Pu, Pv, Pw = (np.concatenate([b[k] for b in borders] + [np.empty((0, 2))]) for k in (3, 4, 5))
     ids, inv = np.unique(np.concatenate((u, v, w)), return_inverse=True)
     m = len(u)
@@ -166,9 +179,20 @@ def check_border(*borders):
     P = np.empty((len(ids), 2))
     P[a], P[b], P[c] = Pu, Pv, Pw
     pairs, repeated, lone = _pair(a, b, len(ids))
-    bad_local = _not_locally_delaunay(P, a, b, c, pairs)
-    counts = dict(repeated_edges=repeated, not_locally_delaunay=bad_local)
-    loop, problem = _cycle(a[lone], b[lone])
+    counts = dict(repeated_edges=repeated, not_locally_delaunay=_not_locally_delaunay(
+        P, a, b, c, pairs))
+    return counts, (u[lone], v[lone], w[lone], Pu[lone], Pv[lone], Pw[lone])
+
+
+def check_border(*borders):
+    """The root of the reduction tree: check 2 across what is left and the
+    cycle of check 3: (counts, the hull loop's coordinates in order)."""
+    counts, (u, v, _, Pu, Pv, _) = pair_borders(*borders)
+    ids, inv = np.unique(np.concatenate((u, v)), return_inverse=True)
+    a, b = inv[:len(u)], inv[len(u):]
+    P = np.empty((len(ids), 2))
+    P[a], P[b] = Pu, Pv
+    loop, problem = _cycle(a, b)
     if problem:
         counts["hull_not_one_cycle"] = 1
         return counts, np.empty((0, 2))
@@ -274,7 +298,7 @@ def off_line(kind, what, scale_exp, a, b):
 
 def tile_distinct(local):
     """Distinct points of one tile (equal points always share a tile)."""
-    P = local["P"]
+    P = partition.load(local)["P"]
     if not len(P):
         return 0
     order = np.lexsort((P[:, 1], P[:, 0]))

@@ -45,9 +45,12 @@ class Serial:
     [3, [1, 2]]
     """
     workers = 1
+    submitted = 0  # tasks run so far (the graph's size, as on Dask)
 
-    def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None) -> Any:
+    def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None,
+               where: int | None = None) -> Any:
         """``fn(*args)``, now."""
+        self.submitted += 1
         return fn(*args)
 
     def put(self, array: Any) -> Any:
@@ -98,15 +101,31 @@ class Dask:
                 self.client = client
             self._own = own.pop_all()
         self.progress = sys.stderr.isatty() if progress is None else progress
+        self.submitted = 0  # tasks submitted so far: the graph's size
+        self._names: list[str] | None = None  # the workers' addresses, for ``where``
 
     @property
     def workers(self) -> int:
         return max(len(self.client.scheduler_info()["workers"]), 1)
 
-    def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None) -> Any:
-        """A future of ``fn(*args)``, retried twice; ``key`` names it."""
-        return self.client.submit(fn, *args, pure=False, retries=2,
-                                  **({"key": f"{key}-{os.urandom(4).hex()}"} if key else {}))
+    def submit(self, fn: Callable[..., Any], *args: Any, key: str | None = None,
+               where: int | None = None) -> Any:
+        """A future of ``fn(*args)``, retried twice; ``key`` names it.
+        ``where``: preferably on worker ``where`` modulo their number (a
+        tile's tasks stay on one worker, and the tiles spread over all:
+        else they all follow the one task they depend on, and the other
+        workers idle until Dask steals work)."""
+        self.submitted += 1
+        extra: dict[str, Any] = {"key": f"{key}-{os.urandom(4).hex()}"} if key else {}
+        if where is not None:
+            names = self._addresses()
+            extra.update(workers=[names[where % len(names)]], allow_other_workers=True)
+        return self.client.submit(fn, *args, pure=False, retries=2, **extra)
+
+    def _addresses(self) -> list[str]:
+        if self._names is None:
+            self._names = sorted(self.client.scheduler_info()["workers"])
+        return self._names
 
     def put(self, array: np.ndarray) -> Any:
         """A future of ``array``, sent once in tasks of at most PUT_BYTES

@@ -4,8 +4,9 @@ and the tasks that measure the chunks and cut them into tiles.
 
     chunk_stats   one pass over a chunk: rows, magnitudes, a seeded sample
     kd_tree       the splits, from the pooled sample
-    cut_chunk     a chunk's points scaled and grouped by tile
-    gather_tile   a tile's pieces, in global id order
+    cut_chunk     a chunk's points scaled and grouped by tile, to a file
+                  (lfqt.distributed.shuffle)
+    tile, load    a tile's parts of every chunk's file, in global id order
 
 Cells are half-open: a point on a cut belongs to the upper side.  Points
 that compare equal (0.0 and -0.0 included) always fall in the same tile.
@@ -15,6 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
+from . import shuffle
 from .sources import read
 
 
@@ -82,33 +84,59 @@ def assign(P, nodes):
     return out
 
 
-def cut_chunk(kind, what, start, scale_exp, nodes, tiles):
-    """(starts, ids, P): the chunk's points scaled by 2**scale_exp (exact)
-    with their global ids, grouped by tile; tile t is rows
-    starts[t]:starts[t+1]."""
+def cut_chunk(kind, what, start, scale_exp, nodes, tiles, path):
+    """Write the chunk's points scaled by 2**scale_exp (exact) with their
+    global ids, grouped by tile, to one shuffle file (``path``): tile t is
+    part t.  Returns the path."""
     P = read(kind, what).astype(np.float64) * 2.0 ** scale_exp
     P += 0.0  # -0.0 -> 0.0: equal points get equal coordinates
     tile = assign(P, nodes)
     order = np.argsort(tile, kind="stable")
     starts = np.searchsorted(tile[order], np.arange(tiles + 1))
-    return starts, start + order.astype(np.int64), np.take(P, order, axis=0)
+    P = np.take(P, order, axis=0)
+    return shuffle.write(path, starts, start + order.astype(np.int64), P,
+                         summary=_boxes(P, starts))
 
 
-def piece(cut, t):
-    """Tile t's rows of a cut chunk: (ids, P)."""
-    starts, ids, P = cut
-    return ids[starts[t]:starts[t + 1]], P[starts[t]:starts[t + 1]]
+@njit(cache=True)
+def _boxes(P, starts):
+    """Each part's box (x0, y0, x1, y1), NaN when empty."""
+    out = np.full((len(starts) - 1, 4), np.nan)
+    for t in range(len(starts) - 1):
+        if starts[t + 1] > starts[t]:
+            lo = starts[t]
+            x0, y0, x1, y1 = P[lo, 0], P[lo, 1], P[lo, 0], P[lo, 1]
+            for i in range(lo + 1, starts[t + 1]):
+                x0, x1 = min(x0, P[i, 0]), max(x1, P[i, 0])
+                y0, y1 = min(y0, P[i, 1]), max(y1, P[i, 1])
+            out[t] = (x0, y0, x1, y1)
+    return out
 
 
-def gather_tile(*pieces):
-    """A tile's local points: dict(ids, P) sorted by global id (pieces come
-    in chunk order, each in id order), and its box.  Duplicates stay: the
-    tile's first triangulation names them (lfqt keeps the smallest id)."""
-    ids = np.concatenate([p[0] for p in pieces] + [np.empty(0, np.int64)])
-    P = np.concatenate([p[1] for p in pieces] + [np.empty((0, 2))])
-    box = (np.array([P[:, 0].min(), P[:, 1].min(), P[:, 0].max(), P[:, 1].max()])
-           if len(P) else np.full(4, np.nan))
-    return dict(ids=ids, P=P, box=box)
+def tile(t, paths):
+    """Tile t's descriptor: the files holding its points (part t of each),
+    how many there are, and its box (NaN when empty), from the files'
+    heads.  The points stay on disk until a task needs them (``load``)."""
+    heads = [shuffle.summary(p, t) for p in paths]
+    n = sum(h[0] for h in heads)
+    boxes = np.array([h[1] for h in heads if h[0]]).reshape(-1, 4)
+    box = (np.r_[boxes[:, :2].min(0), boxes[:, 2:].max(0)] if n else np.full(4, np.nan))
+    return dict(t=t, paths=paths, n=n, box=box)
+
+
+def load(local):
+    """A tile's points: dict(ids, P) sorted by global id (the parts come in
+    chunk order, each in id order).  Duplicates stay: the tile's first
+    triangulation names them (lfqt keeps the smallest id)."""
+    parts = [shuffle.read(p, local["t"]) for p in local["paths"]]
+    return dict(ids=np.concatenate([p[0] for p in parts] + [np.empty(0, np.int64)]),
+                P=np.concatenate([p[1] for p in parts] + [np.empty((0, 2))]))
+
+
+def tasks(chunks, tiles):
+    """The partition's tasks: a cut per chunk, one barrier, a descriptor and
+    its box per tile."""
+    return chunks + 1 + 2 * tiles
 
 
 def touching(cells):

@@ -21,7 +21,7 @@ closed outer half-planes.
 import numpy as np
 
 from ..dc import triangulate
-from . import geometry
+from . import geometry, partition, shuffle
 from .engine import _peak_rss
 
 EMPTY_IDS = np.empty(0, dtype=np.int64)
@@ -35,11 +35,20 @@ def new_state(tiles):
                 sent=[EMPTY_IDS] * tiles, rounds=0, keep=None, frontier=None)
 
 
-def _mesh(local, state, keep=None):
-    """The triangulation of the tile's points (those of ``keep``, default
-    all) and its foreign points: (P, gid, home, Triangulation), vertices
-    local first, each part sorted by global id."""
-    lp, lid = (local["P"], local["ids"]) if keep is None else (local["P"][keep], local["ids"][keep])
+def _own(local, state):
+    """(P, ids) of the tile's own points that the round triangulates: all
+    of them, read from the partition's files, until the tile is sealed;
+    then those it kept (few, held in its state)."""
+    if state["keep"] is None:
+        mine = partition.load(local)
+        return mine["P"], mine["ids"]
+    return state["kP"], state["kid"]
+
+
+def _mesh(lp, lid, state):
+    """The triangulation of the tile's own points ``lp`` (ids ``lid``) and
+    its foreign points: (P, gid, home, Triangulation), vertices local
+    first, each part sorted by global id."""
     P = np.concatenate((lp, state["P"]))
     gid = np.concatenate((lid, state["ids"]))
     home = np.concatenate((np.full(len(lid), -1, dtype=np.int64), state["home"]))
@@ -135,7 +144,7 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
     if near is not None:
         boxes = np.where(near[:, None], boxes, np.nan)
     state = _receive(state, inbox)
-    P, gid, home, tri = _mesh(local, state, state["keep"])
+    P, gid, home, tri = _mesh(*_own(local, state), state)
     groups = None if tri.degenerate else _face_groups(tri, P)
     n_local = int(np.count_nonzero(home < 0))
     v, j, inside = _outgoing(P, home, tri, groups, cell, boxes, me, _frontier(state, len(P)),
@@ -145,7 +154,11 @@ def step(me, local, state, inbox, cell, boxes, out=None, near=None):
         if out is not None:
             from pathlib import Path
             path = Path(out) / f"tile-{me:05d}.interior.npy"
-            np.save(path, state["interior"])
+            interior = state["interior"]
+            if not len(interior) or interior.max() <= np.iinfo(np.int32).max:
+                interior = interior.astype(np.int32)  # half the disk while it waits
+            with shuffle.writing(path):
+                np.save(path, interior)
             state["interior"] = str(path)
     send_home = np.where(home < 0, me, home)
     ok = send_home[v] != j  # a tile knows its own points
@@ -200,7 +213,8 @@ def _seal(state, P, gid, home, tri, groups, inside, n_local):
     frontier = np.concatenate((live, np.ones(len(P) - n_local, dtype=bool)))
     interior = geometry.owned(_cut(tri, P, gid, groups), gid, home, frontier, True)
     dup, rep = _duplicates(tri, gid, n_local)
-    return dict(state, keep=keep, frontier=live[keep], interior=interior, dup=dup, rep=rep)
+    return dict(state, keep=keep, kP=P[keep], kid=gid[keep], frontier=live[keep],
+                interior=interior, dup=dup, rep=rep)
 
 
 def _cut(tri, P, gid, groups):
@@ -233,7 +247,7 @@ def finish(me, local, state, out=None, fmt="npy"):
     id is one of the tile's points, cocircular faces cut canonically: the
     sealed interior from the first round, the rest from the points kept.
     Returns the (m, 3) global ids, or with ``out`` the path written."""
-    P, gid, home, tri = _mesh(local, state, state["keep"])
+    P, gid, home, tri = _mesh(*_own(local, state), state)
     frontier = _frontier(state, len(P))
     if state["frontier"] is None:  # never sealed: degenerate all along
         dup, rep = _duplicates(tri, gid, int(np.count_nonzero(home < 0)))
@@ -243,21 +257,22 @@ def finish(me, local, state, out=None, fmt="npy"):
                            False))
     interior = state["interior"]
     if isinstance(interior, str):  # waiting in a file of ``out`` (step)
-        interior = np.load(interior)
+        interior = np.load(interior).astype(np.int64)
     G = np.concatenate((interior, rest))
     info = dict(tile=me, triangles=len(G), points=len(P), foreign=len(state["ids"]),
-                local=len(local["ids"]), rounds=state["rounds"], peak_rss=_peak_rss(),
+                local=local["n"], rounds=state["rounds"], peak_rss=_peak_rss(),
                 duplicates=len(state["dup"]))
     if out is None:
         return G, (state["dup"], state["rep"]), info
     from pathlib import Path
     path = Path(out) / f"tile-{me:05d}.{fmt}"
-    if fmt == "npy":
-        np.save(path, G)
-    else:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-        pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
+    with shuffle.writing(path):
+        if fmt == "npy":
+            np.save(path, G)
+        else:
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+            pq.write_table(pa.table({"a": G[:, 0], "b": G[:, 1], "c": G[:, 2]}), path)
     return str(path), (state["dup"], state["rep"]), info
 
 
