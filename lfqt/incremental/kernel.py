@@ -23,7 +23,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .. import pages, workspace
+from .. import workspace
 from ..clock import cycle_counter
 from ..indexing import bit, borrow, popcount, prefetch, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
@@ -733,14 +733,6 @@ def coordinate_span(P, largest=None):
     return max(1.0, float(np.abs(P).max(initial=0.0)) if largest is None else largest)
 
 
-def huge_pages(d):
-    """Whether the cells and the output of an insertion in d dimensions go
-    on transparent huge pages (lfqt.pages): in 2D, yes, fewer TLB misses; in
-    3D, not where the host takes free pages back, which fresh huge pages
-    then fault on (docs/performance.md, "insertion's pages")."""
-    return d == 2 or not pages.host_takes_free_pages()
-
-
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
     """Insert P[perm] one by one; returns an Insertion (C, N, mark, ncells,
     dup_of, counts, ok, records).  ok is False when the points span fewer
@@ -755,16 +747,15 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
 
     The arrays of a size in points or cells come from lfqt.workspace, here,
     not from the kernel, on transparent huge pages where they pay
-    (huge_pages), where numba's allocations would fault in 4 KB at a time
+    (lfqt.pages.huge_pays), where numba's allocations would fault in 4 KB at a time
     on every call (docs/performance.md, "insertion's pages"), and on the
     mappings of earlier calls' freed results where there are."""
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
-    huge = huge_pages(d)
-    vcell = workspace.empty(n, np.int32, huge)
+    vcell = workspace.empty(n, np.int32)
     vcell.fill(-1)
-    records = workspace.empty(_record_shape(cap, d + 1), np.int32, huge)
-    cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32, huge))
+    records = workspace.empty(_record_shape(cap, d + 1), np.int32)
+    cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32))
     planar, spatial = (True, None) if d == 2 else (None, True)  # (_insert_all)
     out = _insert_all(P, d, planar, spatial, (perm, hint), span, cells, np.arange(n), max_cells,
                       timing)
@@ -842,11 +833,10 @@ def finite_cells(C, N, mark, ids, records=None):
     """
     bits, first, finite, live = _finite_bitmap(C, mark)
     width = C.shape[1]
-    huge = huge_pages(width - 1)
-    neighbors = workspace.empty((finite, width), np.int32, huge)
+    neighbors = workspace.empty((finite, width), np.int32)
     facets = np.empty((live - finite, width - 1), dtype=np.int64)
     if records is None:
-        simplices = workspace.empty((finite, width), np.int32, huge)
+        simplices = workspace.empty((finite, width), np.int32)
     else:
         flat = records.reshape(-1)
         simplices = flat[:finite * width].reshape(finite, width)
