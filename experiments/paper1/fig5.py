@@ -37,7 +37,10 @@ def shares(counts, threads):
     """{phase label: percent of the wall time} of one run's counts."""
     wall = {k: counts.get(f"phase_{k}", 0.0) / (threads if k.endswith("_lower") else 1)
             for k, _ in PHASES}
-    total = counts.get("seconds_total", sum(wall.values()))
+    # the bins' thread-seconds over the threads exceed the wall time when the
+    # machine has fewer free cores than threads (time descheduled counts):
+    # then the phases share the whole wall time, in their own proportions
+    total = max(counts.get("seconds_total", 0.0), sum(wall.values()))
     out = {label: 100 * wall[k] / total for k, label in PHASES}
     out["other"] = max(0.0, 100 - sum(out.values()))
     return out

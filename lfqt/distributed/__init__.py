@@ -36,7 +36,7 @@ import os
 import time
 from collections.abc import Iterator, Sequence
 from operator import getitem
-from typing import TYPE_CHECKING, Any, Literal, Union
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -491,10 +491,17 @@ def verify(result: Triangulation | Sequence[str | os.PathLike], points: Points, 
         return verify_on(result, chunk_list, engine, scratch)
 
 
+class _Verified(NamedTuple):
+    """What verify_on's shuffles and reduction found."""
+    counts: dict
+    hull: Any  # the hull loop, a future: it stays on the cluster
+    distinct: Any
+    used: Any  # ids used per chunk
+    scale_exp: int
+
+
 def _verify(result, chunk_list, engine, work):
-    """verify_on's shuffles and its reduction: (counts, the hull loop (a
-    future: it stays on the cluster), distinct points, ids used per chunk,
-    the scale exponent)."""
+    """verify_on's shuffles and its reduction, as a _Verified."""
     from . import check as ck
     starts, scale_exp, sample = _measure(chunk_list, engine)
     # 4: distinct points, counted tile by tile (equal points share a tile)
@@ -534,7 +541,8 @@ def _verify(result, chunk_list, engine, work):
         for k, v in part.items():
             counts[k] = counts.get(k, 0) + int(v)
     used = engine.gather([engine.submit(getitem, f, 1, key="used") for f in found])
-    return counts, engine.submit(getitem, border, 1, key="hull"), distinct, used, scale_exp
+    return _Verified(counts, engine.submit(getitem, border, 1, key="hull"), distinct, used,
+                     scale_exp)
 
 
 def _shares(result: Triangulation | Sequence[str | os.PathLike],
