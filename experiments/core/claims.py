@@ -75,13 +75,13 @@ class Needs:
     cores, a GPU, the paper's sizes) and the command that judges it where
     that is at hand; a row *not testable on this machine* names both.
     Without a command, the harness cannot judge it anywhere yet."""
-    machine: str  # "16+ physical cores", "the paper scale (fits 24 GB)"
+    what: str  # "a machine with 16+ physical cores", "the paper scale's 1e8 points"
     command: str = ""
 
     def __str__(self):
         if not self.command:
-            return f"needs {self.machine}; no command of the harness judges it yet"
-        return f"on a machine with {self.machine}: `{self.command}`"
+            return f"needs {self.what}; no command of the harness judges it yet"
+        return f"needs {self.what}: `{self.command}`"
 
 
 @dataclass(frozen=True)

@@ -99,7 +99,7 @@ CLAIMS = (
           _top_share,
           rule=AtMost(holds=15),  # the largest share of the top, in percent, over the sets
           limits={"threads": 32},  # judged from this many threads on
-          needs=Needs("32 hardware threads", "python -m experiments.fig5")),
+          needs=Needs("a machine with 32 hardware threads", "python -m experiments.fig5")),
 )
 
 

@@ -174,7 +174,7 @@ CLAIMS = (
     Claim("13 to 14x on 16 cores", "13-14x on 16 cores, ~17x on 16c/32t (Fig. 6)", _scaling,
           rule=AtLeast(holds=13, partly=8),  # the worst set's speedup at 16 threads
           limits={"cores": 16},  # judged on a machine with this many physical cores
-          needs=Needs("16+ physical cores",
+          needs=Needs("a machine with 16+ physical cores",
                       "python -m experiments.fig6 --thread-counts 1,2,4,8,16,32")),
 )
 
