@@ -180,6 +180,7 @@ CLAIMS = (
 
 EXPERIMENT = Experiment("fig4", "lfqt's single-thread rate from 1k points up, cache sizes marked",
                         grid, plot, reproduces=(("Paper 1", "Fig. 4"),), repeats=5, main_job=True,
+                        minutes={"default": 1.2},
                         claims=CLAIMS)
 main = EXPERIMENT.main
 

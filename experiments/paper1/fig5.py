@@ -105,7 +105,7 @@ CLAIMS = (
 
 EXPERIMENT = Experiment("fig5", "lfqt's phases in percent, one thread and all threads, five "
                         "distributions", grid, plot, reproduces=(("Paper 1", "Fig. 5"),),
-                        main_job=True, claims=CLAIMS)
+                        main_job=True, minutes={"default": 0.4}, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

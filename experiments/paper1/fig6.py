@@ -181,7 +181,7 @@ CLAIMS = (
 
 EXPERIMENT = Experiment(
     "fig6", "speedup over one thread on the five distributions, CGAL's parallel 3D beside",
-    grid, plot, reproduces=(("Paper 1", "Fig. 6"),), main_job=True,
+    grid, plot, reproduces=(("Paper 1", "Fig. 6"),), main_job=True, minutes={"default": 1.4},
     options=(("--thread-counts", dict(type=lambda s: [int(v) for v in s.split(",")],
                                       help="comma-separated thread counts (default: powers of "
                                            "two up to the logical CPUs, the physical core "
