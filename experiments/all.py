@@ -4,8 +4,9 @@ then the report (experiments.report) from their results.
     python -m experiments.all [--scale smoke|default|paper] [--force] [--out DIR]
 
 It judges every claim of those experiments, each experiment's default
-scale sized for it (``python -m experiments --list`` gives their minutes,
-within experiments.core.experiment.MAIN_JOB_MINUTES on 2 cores).  A killed
+scale sized for it (``python -m experiments --list`` gives their minutes
+beside the budget, experiments.core.experiment.MAIN_JOB_MINUTES on 2 quiet
+cores).  A killed
 run resumes where it stopped; at the end it prints the seconds each
 experiment took and where the figures are."""
 import argparse
