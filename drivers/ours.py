@@ -66,7 +66,10 @@ def _result(tri):
 
 class LfqtDC(_Ours):
     options = ("threads",)
-    bytes_per_point = 300
+    # the whole process's peak per point, with a margin: 133-137 B measured at 5M
+    # (uniform on 2 threads, grid and cluster on 1), 106 B at 20M; so that 1e8
+    # points (fig4's paper scale) run on a 24 GB machine
+    bytes_per_point = 160
 
     def __init__(self, subdivision="lfqt", filter="level", leaf_size=None):
         self.subdivision = subdivision

@@ -3,8 +3,12 @@ then the report (experiments.report) from their results.
 
     python -m experiments.all [--scale smoke|default|paper] [--force] [--out DIR]
 
-A killed run resumes where it stopped; at the end it prints where the
-figures are."""
+It judges every claim of those experiments, each experiment's default
+scale sized for it (``python -m experiments --list`` gives their minutes
+beside the budget, experiments.core.experiment.MAIN_JOB_MINUTES on 2 quiet
+cores).  A killed
+run resumes where it stopped; at the end it prints the seconds each
+experiment took and where the figures are."""
 import argparse
 import sys
 import time
@@ -26,12 +30,17 @@ def main(argv=None):
     extra = ["--scale", args.scale, "--out", args.out] + (["--force"] if args.force else []) \
         + (["--quiet"] if args.quiet else [])
     jobs = main_job()
+    took = {}
     for exp in jobs:
         print(f"== {exp.name} ({args.scale}) ==", flush=True)
+        t1 = time.time()
         exp.main(extra)
+        took[exp.name] = time.time() - t1
     root = results_root(args.out, args.scale)
     print("== report ==", flush=True)
     report.main(["--scale", args.scale, "--out", args.out])
+    print("\nseconds per experiment (a resumed run counts only what it measured): "
+          + ", ".join(f"{name} {s:.0f}" for name, s in took.items()))
     print(f"\nDone in {time.time() - t0:.0f} s. Figures: {root}/figures/ "
           f"({', '.join(e.name for e in jobs)}; .png and .svg); tidy results and metadata: "
           f"{root}/<experiment>/; the claims judged: {root}/REPORT.md")

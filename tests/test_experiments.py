@@ -16,6 +16,12 @@ def load_rows(out_dir):
     return results.load(out_dir).to_dict("records")
 
 
+def printed(text, name):
+    """What the main job printed for one experiment (between its header and
+    the next)."""
+    return text.split(f"== {name} (smoke) ==\n", 1)[1].split("\n== ", 1)[0]
+
+
 def test_bench_dc_smoke_interleaves_rounds_and_reports_ratios(tmp_path, capsys):
     assert bench_dc.main(["--scale", "smoke", "--repeats", "1", "--rounds", "2",
                           "--peers", "lfqt-dc,triangle", "--out", str(tmp_path), "--quiet",
@@ -171,6 +177,12 @@ def test_main_job_at_smoke_scale(smoke_results):
     assert report.count("\n| ") >= 14 and "1G triangles in 8 s" in report
     assert "Kd is fastest on every model" in report
     assert "radix" not in report or "thread-ms" in report
+    # every claim of the main job's experiments is measured; one that needs the paper's
+    # sizes names the command that judges it
+    from experiments.core import registry
+    for e in registry.main_job():
+        assert f"run `{e.command}`" not in report, e.name
+    assert "`python -m experiments.fig4 --scale paper --dists uniform,grid,cluster`" in report
     # --plot-only redraws from stored results without measuring
     from experiments.paper1 import fig3
     assert fig3.main(["--scale", "smoke", "--out", str(smoke.parent), "--plot-only"]) == 0
@@ -299,8 +311,13 @@ def test_fig6_takes_any_thread_counts_and_records_the_topology(tmp_path, capsys)
 
 def test_fig7_radix_peer_sorts_and_the_largest_size_fits_memory():
     from experiments.paper1 import fig7
-    assert fig7.largest_size(24 * 2 ** 30) == 40_000_000
+    assert fig7.largest_size(24 * 2 ** 30) == 80_000_000  # half of 24 GiB at 160 B per point
     assert fig7.largest_size(2 ** 40) == 500_000_000  # never above the paper's 500M
+    # the main job's share stops at 40M, the paper scale takes what fits
+    largest = {s: max(c.n for c in fig7.grid(s, 1) if c.peer == "lfqt-dc")
+               for s in ("default", "paper")}
+    assert largest["default"] == min(fig7.largest_size(), 40_000_000)
+    assert largest["paper"] == fig7.largest_size()
     import drivers
     import generators
     peer = drivers.make("lfqt-radix", threads=2)
@@ -308,33 +325,72 @@ def test_fig7_radix_peer_sorts_and_the_largest_size_fits_memory():
     assert m.counts == {"sorted": 1, "values": 50_000} and all(s > 0 for s in m.seconds)
 
 
-def test_liu_practical_records_every_order_and_its_memory(tmp_path, capsys):
+def test_liu_practical_records_every_order_and_its_memory(smoke_results):
     from experiments.paper2 import liu_practical
-    assert liu_practical.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
-                               "--dists", "statue-standin,refined-cube-standin"]) == 0
-    rows = load_rows(tmp_path / "smoke" / "liu_practical")
+    smoke, text = smoke_results  # the smoke main job measured it
+    rows = load_rows(smoke / "liu_practical")
     got = {(r["peer"], r["distribution"]) for r in rows if r["status"] == "ok"}
-    assert got == {(tpl.format(o), m) for m in ("statue-standin", "refined-cube-standin")
-                   for o in liu_practical.ORDERS for _, tpl in liu_practical.SYSTEMS}
+    assert got == {(tpl.format(o), "refined-cube-standin") for o in liu_practical.ORDERS
+                   for _, tpl in liu_practical.SYSTEMS} | {
+        (f"cgal-dt3-{o}", m) for m in ("gearbox-standin", "constrained-cube-standin")
+        for o in ("kdtree", "random")}
     assert all(r["peak_bytes"] >= 0 for r in rows)  # recorded for every run
     assert all(r["peak_bytes"] > 0 for r in rows if r["peer"].startswith("cgal"))
-    text = capsys.readouterr().out
+    text = printed(text, "liu_practical")
     assert "Hilbert order failed (memory)" in text and "abort" not in text.split("paper:")[0]
-    assert (tmp_path / "smoke" / "figures" / "liu_practical.png").stat().st_size > 20000
+    assert (smoke / "figures" / "liu_practical.png").stat().st_size > 20000
 
 
-def test_liu_hilbert_compares_cgal_sorts_with_the_papers_rows(tmp_path, capsys):
+def test_liu_practical_default_measures_each_claims_cells_alone():
+    """The main job's share: Table 17's three orders on the refined cube at
+    a tenth, enough points to project the peak to the full 5.5M, and Table
+    16's random against Kd in CGAL at a twentieth."""
+    import generators
+    from experiments.paper2 import liu_practical
+    cells = {(c.peer, c.distribution): c.n for c in liu_practical.grid("default", 1)}
+    full = generators.get("refined-cube-standin").default_n
+    assert full == liu_practical.CLAIMS[1].limits["full_n"]
+    assert {cells[f"cgal-dt3-{o}", "refined-cube-standin"] for o in ("kdtree", "hilbert", "brio")
+            } == {full // 10} and full // 10 >= liu_practical.CLAIMS[1].limits["from_n"]
+    for m in ("gearbox-standin", "constrained-cube-standin"):
+        assert cells["cgal-dt3-random", m] == cells["cgal-dt3-kdtree", m] == \
+            generators.get(m).default_n // 20
+    assert len(cells) == 7
+    paper = liu_practical.grid("paper", 1)
+    assert len(paper) == 32 and all(c.n == generators.get(c.distribution).default_n for c in paper)
+
+
+def test_liu_hilbert_compares_cgal_sorts_with_the_papers_rows(smoke_results):
     from experiments.paper2 import liu_hilbert
-    assert liu_hilbert.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet",
-                             "--dists", "cube,cylinder"]) == 0
-    df = results.load(tmp_path / "smoke" / "liu_hilbert")
+    smoke, text = smoke_results  # the smoke main job measured it
+    df = results.load(smoke / "liu_hilbert")
+    assert set(df["distribution"]) == {"cube", "cylinder"}
     assert set(df["peer"]) == set(liu_hilbert.CANDIDATES) and (df["status"] == "ok").all()
     counts = {p: c for p, c in zip(df["peer"], df["counts"])}
     assert counts["cgal-dt3-hilbert-sort"]["conflicts"] > 0
     # the table 13 row that repeats another is left out of the distances
     assert set(liu_hilbert.best_matches(df)) == {"hilbert", "brio"}
-    assert "nearest to the paper's hilbert" in capsys.readouterr().out
-    assert (tmp_path / "smoke" / "figures" / "liu_hilbert.png").stat().st_size > 20000
+    assert "nearest to the paper's hilbert" in printed(text, "liu_hilbert")
+    assert (smoke / "figures" / "liu_hilbert.png").stat().st_size > 20000
+
+
+def test_the_main_jobs_share_of_distributed_and_liu_hilbert():
+    """The default scale's cells (the main job's) and the smoke scale's (CI's)."""
+    from types import SimpleNamespace
+
+    from experiments.beyond import distributed
+    from experiments.paper2 import liu, liu_hilbert
+
+    def cells(scale, **kw):
+        return distributed._cells(SimpleNamespace(scale=scale, sizes=None, dists=None) if not kw
+                                  else SimpleNamespace(scale=scale, **kw))
+    assert cells("smoke") == [("uniform", 100_000)]
+    assert cells("default") == [("uniform", 1_000_000), ("cluster", 1_000_000)]
+    assert cells("paper", sizes=[10**8], dists=None) == [("uniform", 10**8), ("cluster", 10**8)]
+    for scale, models in (("smoke", {"cube", "cylinder"}), ("default", set(liu.MODELS))):
+        grid = liu_hilbert.grid(scale, 1)
+        assert {c.distribution for c in grid} == models
+        assert len(grid) == len(models) * len(liu_hilbert.CANDIDATES) and all(c.count for c in grid)
 
 
 def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
@@ -346,35 +402,39 @@ def test_liu_experiments_refuse_what_they_do_not_have(tmp_path):
         liu_times.main(["--scale", "smoke", "--out", str(tmp_path), "--sizes", "123"])
 
 
-def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(tmp_path, capsys):
+def test_hybrid_sweeps_leaf_sizes_against_dc_with_phases(smoke_results):
     from experiments.beyond import hybrid
-    assert hybrid.main(["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--repeats", "1",
-                        "--dists", "uniform,grid"]) == 0
-    df = results.load(tmp_path / "smoke" / "hybrid")
+    from experiments.core.experiment import many_threads
+    smoke, text = smoke_results  # the smoke main job measured it
+    df = results.load(smoke / "hybrid")
     assert (df["status"] == "ok").all()
     assert set(df["peer"]) == {"lfqt-dc"} | {f"lfqt-hybrid-{k}" for k in hybrid.LEAVES["smoke"]}
     c = df.loc[df["peer"] == "lfqt-hybrid-64", "counts"].iloc[0]
     assert c["phase_insert_lower"] > 0 and c["orientation_tests"] > 0
     best = hybrid.best_leaves(df)
-    assert set(best) == {(d, 20_000, t) for d in ("uniform", "grid") for t in (1, 2)}
-    assert "hybrid time / dc time" in capsys.readouterr().out
-    assert (tmp_path / "smoke" / "figures" / "hybrid.png").stat().st_size > 20000
+    assert set(best) == {(d, 20_000, t) for d in ("uniform", "grid") for t in (1, many_threads(1))}
+    assert "hybrid time / dc time" in printed(text, "hybrid")
+    assert (smoke / "figures" / "hybrid.png").stat().st_size > 20000
+    # the default scale, the main job's share: every set, two leaf sizes, 1 and all threads
+    cells = hybrid.grid("default", 1)
+    assert {c.peer for c in cells} == {"lfqt-dc", "lfqt-hybrid-256", "lfqt-hybrid-4096"}
+    assert {c.distribution for c in cells} == set(hybrid.DISTS) and len(cells) == 30
 
 
-def test_distributed_measures_checks_and_resumes(tmp_path, capsys):
-    import pytest
-    pytest.importorskip("dask.distributed")
+def test_distributed_measures_checks_and_resumes(smoke_results, tmp_path):
+    import shutil
     from experiments.beyond import distributed
-    args = ["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--dists", "uniform"]
-    assert distributed.EXPERIMENT.main(args) == 0
+    smoke, text = smoke_results  # the smoke main job measured it
     out = tmp_path / "smoke" / "distributed"
+    shutil.copytree(smoke / "distributed", out)
+    args = ["--scale", "smoke", "--out", str(tmp_path), "--quiet", "--dists", "uniform"]
     df = results.load(out)
     assert set(df["peer"]) == {"lfqt-distributed", "lfqt"} and (df["n"] == 100_000).all()
     c = df.loc[df["peer"] == "lfqt-distributed", "counts"].iloc[0]
     assert c["verified"] and c["equal_to_lfqt"] and c["rounds"] >= 2
     assert c["received_max"] > 0 and len(c["peak_rss_per_worker"]) == c["workers"]
-    assert "uniform" in capsys.readouterr().out
-    assert (tmp_path / "smoke" / "figures" / "distributed.png").stat().st_size > 20000
+    assert "uniform" in printed(text, "distributed")
+    assert (smoke / "figures" / "distributed.png").stat().st_size > 20000
     with open(out / "cells.jsonl", "a") as f:
         f.write('{"key": ["uniform", 1000')  # a line cut by a crash
     log = (out / "cells.jsonl").read_text()

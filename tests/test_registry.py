@@ -21,6 +21,26 @@ def test_main_job_comes_from_the_registry():
     assert "bench_dc" not in names
 
 
+def test_main_job_judges_every_claim_and_lists_its_minutes(capsys):
+    from experiments.core.experiment import MAIN_JOB_MINUTES
+    jobs = {e.name for e in registry.main_job()}
+    assert {"liu_practical", "liu_hilbert", "hybrid", "distributed"} <= jobs
+    judged = {e.name for e in registry.experiments().values() if e.claims}
+    # judged by their own runs, each longer than the whole budget at its default scale
+    # (bench_dc about 25 minutes, scipy_surface more than 30)
+    assert judged - jobs == {"bench_dc", "scipy_surface"}
+    minutes = registry.main_job_minutes()
+    assert set(minutes) == jobs and None not in minutes.values()
+    assert cli.main(["--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    hybrid = next(l for l in lines if "python -m experiments.hybrid " in l)
+    assert hybrid.endswith(f"[main job, ~{minutes['hybrid']:g} min]")
+    assert not any("[main job" in l for l in lines if "experiments.bench_dc " in l)
+    assert lines[-1].startswith("main job: ") and lines[-1].endswith(
+        f"~{sum(minutes.values()):g} min measured on 2 shared cores (budget: "
+        f"{MAIN_JOB_MINUTES} min on 2 quiet cores)")
+
+
 def test_every_experiment_runs_by_its_short_name():
     """``python -m experiments.<name>`` and ``import experiments.<name>``
     reach the module in its section: the very module, not a copy."""

@@ -97,10 +97,10 @@ def test_grid_rate_needs_grid_and_another_set_at_the_same_size(tmp_path):
     assert judge(fig4.EXPERIMENT, Results(tmp_path))[1].verdict == FAILS
 
 
-def _distributed(root, verified=True, equal=True, peak=4 * 2**30):
+def _distributed(root, verified=True, equal=True, peak=4 * 2**30, sizes=(1_000_000, 10**8)):
     import json
     rows = []
-    for n in (1_000_000, 10_000_000):
+    for n in sizes:
         counts = dict(rounds=5, verified=verified, equal_to_lfqt=equal)
         rows.append(dict(experiment="distributed", peer="lfqt-distributed", distribution="uniform",
                          n=n, threads=2, repeat=0, status="ok", seconds=n / 1e6, peak_bytes=peak,
@@ -119,6 +119,12 @@ def test_distributed_row_needs_exact_results_and_the_memory_bound(tmp_path):
     assert _distributed(tmp_path, equal=False).verdict == FAILS
     assert _distributed(tmp_path, verified=False).verdict == FAILS
     assert _distributed(tmp_path, peak=9 * 2**30).verdict == FAILS
+    # exact below the claim's 1e8 points: not testable, naming the paper scale's command
+    row = _distributed(tmp_path, sizes=(1_000_000,))
+    assert row.verdict == UNTESTABLE and row.why.endswith(
+        "needs the paper scale's 1e8 points, which 24 GB of memory holds (minutes per set): "
+        "`python -m experiments.distributed --scale paper --sizes 1e8`")
+    assert _distributed(tmp_path, verified=False, sizes=(1_000_000,)).verdict == FAILS
 
 
 def test_flat_rate_past_the_last_cache_counts_the_orders_of_magnitude(tmp_path):
@@ -152,6 +158,11 @@ def test_fig6_row_gives_the_machines_own_ceiling_when_recorded(tmp_path):
     row, = judge(fig6.EXPERIMENT, Results(tmp_path))
     assert row.ours.endswith("own ceiling at 2 threads: compute 1.97x, random reads 1.21x")
     assert row.verdict == UNTESTABLE
+    # the row names the command that judges it on a machine that has the cores
+    assert row.why == ("2 physical cores here; needs a machine with 16+ physical cores: "
+                       "`python -m experiments.fig6 --thread-counts 1,2,4,8,16,32`")
+    assert "`python -m experiments.fig6 --thread-counts 1,2,4,8,16,32`" in report.render(
+        tmp_path, "default")
 
 
 def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
@@ -174,3 +185,31 @@ def test_the_machine_line_says_when_the_vm_hands_memory_back(tmp_path):
     (tmp_path / "fig3" / "metadata.json").write_text(json.dumps(meta))
     line = report._machine(Results(tmp_path))
     assert "to its host (free page reporting): fresh" in line and "None" not in line
+
+
+def _practical(root, n, peak_per_point, memory=16 * 2**30):
+    import json
+    from experiments.paper2 import liu_practical
+    rows = []
+    for o in ("kdtree", "hilbert", "brio"):
+        outcome = {"status": "ok", "seconds": [1.0], "cycles": [3e9],
+                   "peak_bytes": peak_per_point * n, "version": "", "counts": {}}
+        rows += results.rows_for(Cell(f"cgal-dt3-{o}", "refined-cube-standin", n),
+                                 "liu_practical", outcome)
+    (root / "liu_practical").mkdir(exist_ok=True)
+    results.write(root / "liu_practical", rows)
+    (root / "liu_practical" / "metadata.json").write_text(json.dumps({"memory_bytes": memory}))
+    return judge(liu_practical.EXPERIMENT, Results(root))[1]
+
+
+def test_hilbert_memory_is_projected_to_the_papers_size_from_a_tenth(tmp_path):
+    row = _practical(tmp_path, 550_000, 400)
+    assert row.verdict == FAILS and "Hilbert at 5,500,000: 2.0 GiB projected" in row.ours
+    assert "projected from 550,000 points" in row.why and row.why.endswith(
+        "`python -m experiments.liu_practical --scale paper --dists refined-cube-standin "
+        "--peers cgal-dt3-kdtree,cgal-dt3-hilbert,cgal-dt3-brio`")
+    # a projected peak past half this machine's memory is no verdict
+    assert _practical(tmp_path, 550_000, 400, memory=3 * 2**30).verdict == UNTESTABLE
+    row = _practical(tmp_path, 5_000, 4000)  # the smoke scale: too few points to project
+    assert row.verdict == UNTESTABLE and "too few points" in row.why
+    assert "needs the paper's 5.5M points (minutes a cell)" in row.why

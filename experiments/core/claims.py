@@ -70,6 +70,21 @@ class Share:
 
 
 @dataclass(frozen=True)
+class Needs:
+    """What a claim needs that this machine or scale may lack (16 physical
+    cores, a GPU, the paper's sizes) and the command that judges it where
+    that is at hand; a row *not testable on this machine* names both.
+    Without a command, the harness cannot judge it anywhere yet."""
+    what: str  # "a machine with 16+ physical cores", "the paper scale's 1e8 points"
+    command: str = ""
+
+    def __str__(self):
+        if not self.command:
+            return f"needs {self.what}; no command of the harness judges it yet"
+        return f"needs {self.what}: `{self.command}`"
+
+
+@dataclass(frozen=True)
 class Claim:
     """A published statement and how an experiment judges it.
 
@@ -82,6 +97,9 @@ class Claim:
     judge: Callable
     rule: Callable = None
     limits: dict = field(default_factory=dict)
+    # what judging it needs where this machine or scale falls short (Needs):
+    # its *not testable on this machine* rows name the command to run there
+    needs: Needs = None
 
     def row(self, ours, verdict, why, text=None, published=None):
         return Row(text or self.text, published or self.published, ours, verdict, why)
@@ -131,5 +149,7 @@ def judge(experiment, res):
         for row in [got] if isinstance(got, Row) else got:
             if row.verdict == MISSING and not row.why:
                 row = replace(row, why=f"run `{experiment.command}`")
+            if row.verdict == UNTESTABLE and claim.needs:
+                row = replace(row, why="; ".join(w for w in (row.why, str(claim.needs)) if w))
             rows.append(replace(row, source=row.source or experiment.name))
     return rows

@@ -18,6 +18,9 @@ SCALES = ("smoke", "default", "paper")
 # peer that is pathological on a set (Qhull on nearly cocircular points) is
 # recorded as a timeout, as paper 1 recorded Triangle failing at 100M points.
 TIMEOUTS = {"smoke": 60.0, "default": 120.0, "paper": 1800.0}
+# What the default main job (python -m experiments.all) may take on 2 quiet
+# cores, setup.sh's budget; --list prints it beside the experiments' minutes.
+MAIN_JOB_MINUTES = 12
 
 
 @dataclass(frozen=True)
@@ -33,6 +36,9 @@ class Experiment:
     grid_options: tuple = ()  # names of extra options the grid takes as keywords
     setup: Callable = None  # (args, out_dir) before the grid is measured
     main_job: bool = False  # part of ``python -m experiments.all``
+    # {scale: minutes it took, measured on 2 cores shared with other work}:
+    # --list shows the default's and adds up the main job's beside its budget
+    minutes: dict = None
     # (scale, cell) -> why the cell is known to fail within the scale's cell
     # timeout, or None: such a cell is recorded as skipped with that reason
     # instead of being waited for again

@@ -9,7 +9,7 @@ import pkgutil
 from functools import lru_cache
 
 from . import results
-from .experiment import results_root
+from .experiment import MAIN_JOB_MINUTES, results_root
 
 
 @lru_cache(maxsize=None)
@@ -59,20 +59,39 @@ def main_job():
     return [e for e in experiments().values() if e.main_job]
 
 
+def main_job_minutes():
+    """{name: minutes at the default scale on 2 cores} of the main job's
+    experiments, as each declares it (None where it does not)."""
+    return {e.name: (e.minutes or {}).get("default") for e in main_job()}
+
+
 def listing():
     """One line per published figure or table and the command that
-    regenerates it, then the benchmarks."""
+    regenerates it, then the benchmarks; the main job's experiments are
+    marked with their minutes at the default scale, totalled at the end."""
     exps = experiments()
     by_item = {item: e for e in exps.values() for item in e.reproduces}
+    minutes = main_job_minutes()
+
+    def mark(e):
+        if e.name not in minutes:
+            return ""
+        m = minutes[e.name]
+        return f" [main job, ~{m:g} min]" if m is not None else " [main job]"
     lines = []
     for item in published():
         e = by_item.get(item)
-        what = f"{e.command:38s} {e.title}" if e else "(not reproduced yet)"
+        what = f"{e.command:38s} {e.title}{mark(e)}" if e else "(not reproduced yet)"
         lines.append(f"{item[0]} {item[1]:9s} {what}")
     for e in exps.values():
         if not e.reproduces:
             kind = "benchmark" if e.name.startswith("bench") else "analysis"
-            lines.append(f"{kind:17s} {e.command:38s} {e.title}")
+            lines.append(f"{kind:17s} {e.command:38s} {e.title}{mark(e)}")
+    total = sum(m for m in minutes.values() if m is not None)
+    lines.append(f"main job: {'python -m experiments.all':38s} the {len(minutes)} experiments "
+                 f"marked [main job] at the default scale, then results/REPORT.md: ~{total:g} "
+                 f"min measured on 2 shared cores (budget: {MAIN_JOB_MINUTES} min on 2 quiet "
+                 "cores)")
     return "\n".join(lines)
 
 

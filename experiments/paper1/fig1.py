@@ -100,7 +100,7 @@ def plot(df, out):
 
 EXPERIMENT = Experiment("fig1", "the LFQT of small float32 sets, splits by level and bit field",
                         grid, plot, reproduces=(("Paper 1", "Fig. 1"),), setup=tables,
-                        main_job=True)
+                        main_job=True, minutes={"default": 0.1})
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

@@ -229,6 +229,7 @@ CLAIMS = (
 EXPERIMENT = Experiment("fig3", "single-thread times of lfqt, CGAL, Triangle (+ alternating cuts, "
                         "Qhull) on five distributions", grid, plot,
                         reproduces=(("Paper 1", "Fig. 3"),), main_job=True,
+                        minutes={"default": 4.3},
                         known_failure=known_failure, claims=CLAIMS, regimes=REGIMES)
 main = EXPERIMENT.main
 

@@ -14,7 +14,7 @@ import numpy as np
 
 import generators
 
-from ..core.claims import UNTESTABLE, AtMost, Claim
+from ..core.claims import UNTESTABLE, AtMost, Claim, Needs
 from ..core.experiment import Experiment, figure_paths, many_threads
 from ..core.runner import Cell
 
@@ -101,13 +101,14 @@ CLAIMS = (
     Claim("the top part takes about 10% at 32 threads", "about 10% at 32 threads (Fig. 5)",
           _top_share,
           rule=AtMost(holds=15),  # the largest share of the top, in percent, over the sets
-          limits={"threads": 32}),  # judged from this many threads on
+          limits={"threads": 32},  # judged from this many threads on
+          needs=Needs("a machine with 32 hardware threads", "python -m experiments.fig5")),
 )
 
 
 EXPERIMENT = Experiment("fig5", "lfqt's phases in percent, one thread and all threads, five "
                         "distributions", grid, plot, reproduces=(("Paper 1", "Fig. 5"),),
-                        main_job=True, claims=CLAIMS)
+                        main_job=True, minutes={"default": 0.4}, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

@@ -173,6 +173,7 @@ CLAIMS = (
 EXPERIMENT = Experiment("table1", "undecided orientation and in-circle tests: Triangle, "
                         "fqDel-const, fqDel-level, five distributions", grid, plot,
                         reproduces=(("Paper 1", "Table 1"),), repeats=3, main_job=True,
+                        minutes={"default": 1.5},
                         claims=CLAIMS)
 main = EXPERIMENT.main
 

@@ -171,7 +171,7 @@ CLAIMS = (
 EXPERIMENT = Experiment("liu_counts", "orientation tests and conflicts per point, seven 3D models, "
                         "three orders, in CGAL and in lfqt", grid, plot,
                         reproduces=tuple(("Paper 2", f"Table {k}") for k in range(8, 15)),
-                        repeats=1, main_job=True, claims=CLAIMS)
+                        repeats=1, main_job=True, minutes={"default": 1.8}, claims=CLAIMS)
 main = EXPERIMENT.main
 
 

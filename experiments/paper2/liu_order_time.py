@@ -90,7 +90,7 @@ CLAIMS = (
 
 EXPERIMENT = Experiment("liu_order_time", "time to build the Kd-tree and Hilbert orders alone, "
                         "cube and cylinder", grid, plot, reproduces=(("Paper 2", "Table 15"),),
-                        main_job=True, claims=CLAIMS)
+                        main_job=True, minutes={"default": 0.4}, claims=CLAIMS)
 main = EXPERIMENT.main
 
 if __name__ == "__main__":

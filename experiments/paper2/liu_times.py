@@ -193,6 +193,7 @@ EXPERIMENT = Experiment("liu_times", "time of the Kd-tree, BRIO and Hilbert orde
                         "3D models, in CGAL and in lfqt, ratios to Kd beside the paper's",
                         grid, plot, reproduces=tuple(("Paper 2", f"Table {k}")
                                                      for k in range(1, 8)), main_job=True,
+                        minutes={"default": 2.8},
                         claims=CLAIMS)
 main = EXPERIMENT.main
 
