@@ -529,3 +529,13 @@ def test_bench_dc_runs_lfqt_on_each_thread_count_beside_one_run_of_each_peer():
     assert sorted({t for *_, t in ours}) == [1, 2] and len(ours) == len(set(ours))
     assert {c.threads for c in cells if c.peer != bench_dc.REFERENCE} == {1}
     assert len(cells) == len(bench_dc.grid("default", 1)) + len(ours) // 2
+
+
+def test_distributed_records_partition_tasks_that_grow_as_tiles_plus_chunks():
+    from experiments.beyond import distributed
+    counts = distributed.task_counts()
+    assert list(counts) == ["1000000", "100000000", "10000000000"]
+    for c in counts.values():
+        assert c["partition_tasks"] <= 2 * (c["chunks"] + c["tiles"]) + 1
+    big = counts["10000000000"]
+    assert big["product_before"] > 1000 * big["partition_tasks"]

@@ -145,7 +145,21 @@ def _counts(st, n):
                 received_share_median=float(np.median(received / local)),
                 received_share_max=float((received / local).max()),
                 points_per_tile_median=float(np.median(local)),
-                peak_rss_per_worker=st["peak_rss"])
+                peak_rss_per_worker=st["peak_rss"], tasks=st.get("tasks"),
+                chunks=st.get("chunks"))
+
+
+def task_counts(workers=2, sizes=(10**6, 10**8, 10**10)):
+    """{n: (chunks, tiles, partition tasks as tiles + chunks, as their
+    product before)} at the default tiles and this experiment's chunks, for
+    the metadata (computed, not measured: 10^10 is beyond this machine)."""
+    from lfqt.distributed import partition
+    out = {}
+    for n in sizes:
+        c, t = -(-n // chunked.CHUNK_ROWS), partition.auto_tiles(n, workers)
+        out[str(n)] = dict(chunks=c, tiles=t, partition_tasks=partition.tasks(c, t),
+                           product_before=c * t)
+    return out
 
 
 def measure(args, out_dir, command):
@@ -164,6 +178,7 @@ def measure(args, out_dir, command):
                 cells=len(cells), resumed_cells=len(cells) - len(todo),
                 engine="dask.distributed LocalCluster, one single-threaded worker per core",
                 distributions={d: chunked.__doc__.split("\n\n")[0] for d in SETS},
+                partition_tasks=task_counts(),
                 **_versions(), **machine_info())
     results.atomic_write(out_dir / "metadata.json", json.dumps(meta, indent=2, default=str))
     scratch = Path(args.data) if args.data else Path(tempfile.mkdtemp(prefix="lfqt-distributed-"))
