@@ -64,8 +64,10 @@ class _ShortNames(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     def get_code(self, fullname):
         # runpy (``python -m``) executes this code as __main__
         real = module_of(fullname.rpartition(".")[2])
-        return compile(f"import sys\nfrom {real} import main\nsys.exit(main())\n",
-                       f"<{fullname}, running {real}>", "exec")
+        # guarded: a process spawned by multiprocessing (the fresh regime's)
+        # runs this code again as __mp_main__, and must not run main there
+        return compile(f"import sys\nfrom {real} import main\nif __name__ == '__main__':\n"
+                       "    sys.exit(main())\n", f"<{fullname}, running {real}>", "exec")
 
 
 if not any(isinstance(f, _ShortNames) for f in sys.meta_path):

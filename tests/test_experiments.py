@@ -539,3 +539,18 @@ def test_distributed_records_partition_tasks_that_grow_as_tiles_plus_chunks():
         assert c["partition_tasks"] <= 2 * (c["chunks"] + c["tiles"]) + 1
     big = counts["10000000000"]
     assert big["product_before"] > 1000 * big["partition_tasks"]
+
+
+def test_a_short_command_measures_the_fresh_regime(tmp_path):
+    """python -m experiments.<short> in the fresh regime: the spawned child
+    runs the command's code again as __mp_main__, which must not start the
+    experiment a second time."""
+    import subprocess
+    import sys
+    proc = subprocess.run([sys.executable, "-m", "experiments.bench_dc", "--scale", "smoke",
+                           "--peers", "lfqt-dc", "--regime", "fresh", "--repeats", "1",
+                           "--rounds", "1", "--no-compile-time", "--quiet", "--out",
+                           str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    rows = load_rows(tmp_path / "smoke" / "bench_dc")
+    assert [(r["regime"], r["status"]) for r in rows] == [("fresh", "ok")]
