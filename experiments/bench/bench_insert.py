@@ -26,7 +26,7 @@ import sys
 from drivers.isolate import REGIME_TEXT, REGIMES
 
 from ..core import results
-from ..core.experiment import Experiment, figure_paths
+from ..core.experiment import Experiment, figure_paths, per_regime
 from ..core.runner import Cell
 
 SIZES = {"smoke": [5_000], "default": [100_000, 1_000_000], "paper": [1_000_000, 3_000_000]}
@@ -43,11 +43,7 @@ def grid(scale, threads):
 
 
 def plot(df, out):
-    paths = []
-    for regime in [r for r in REGIMES if r in set(df["regime"])]:
-        print(f"\n== regime: {regime} ({REGIME_TEXT[regime]}) ==")
-        paths += _plot(df[df["regime"] == regime], out, regime)
-    return paths
+    return per_regime(df, lambda rows, regime: _plot(rows, out, regime))
 
 
 def _plot(df, out, regime):

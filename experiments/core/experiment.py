@@ -10,6 +10,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
+from drivers.isolate import REGIME_TEXT, REGIMES
+
 from . import results, runner
 
 SCALES = ("smoke", "default", "paper")
@@ -214,6 +216,17 @@ def results_root(out, scale):
     """Where a scale's results and figures go: ``out`` for the default scale,
     ``out/<scale>`` for the others, so that scales never overwrite each other."""
     return Path(out) if scale == "default" else Path(out) / scale
+
+
+def per_regime(df, draw):
+    """draw(rows, regime) for each regime of drivers.isolate.REGIMES that
+    ``df`` holds, each under a printed line naming it; the figure paths of
+    all."""
+    paths = []
+    for regime in [r for r in REGIMES if r in set(df["regime"])]:
+        print(f"\n== regime: {regime} ({REGIME_TEXT[regime]}) ==")
+        paths += draw(df[df["regime"] == regime], regime)
+    return paths
 
 
 def figure_paths(fig, out, name):

@@ -11,7 +11,7 @@ from drivers.isolate import REGIME_TEXT, REGIMES
 
 from ..core import results
 from ..core.claims import FAILS, HOLDS, MISSING, AtLeast, AtMost, Claim
-from ..core.experiment import Experiment, figure_paths
+from ..core.experiment import Experiment, figure_paths, per_regime
 from ..core.runner import Cell
 
 # paper 1's five sets, as generators.REGISTRY tags them
@@ -54,11 +54,7 @@ def plot(df, out):
     """Per regime (drivers.isolate.REGIMES): the ratios printed and a figure
     (fig3.png for the paper's loop regime, fig3-<regime>.png for the
     others)."""
-    paths = []
-    for regime in [r for r in REGIMES if r in set(df["regime"])]:
-        print(f"\n== regime: {regime} ({REGIME_TEXT[regime]}) ==")
-        paths += _plot(df[df["regime"] == regime], out, regime)
-    return paths
+    return per_regime(df, lambda rows, regime: _plot(rows, out, regime))
 
 
 def _plot(df, out, regime):
