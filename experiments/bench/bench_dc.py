@@ -164,8 +164,10 @@ def plot(df, out):
 def _by_threads(part):
     """[(threads, rows)] for each thread count lfqt ran on in ``part``: its
     rows at that count and every peer's (the peers run on one thread)."""
+    if part.empty:
+        return []
     ours = part["peer"] == REFERENCE
-    counts = sorted(int(t) for t in part.loc[ours, "threads"].unique()) or [1] * (not part.empty)
+    counts = sorted(int(t) for t in part.loc[ours, "threads"].unique()) or [1]  # no lfqt rows
     return [(t, part[~ours | (part["threads"] == t)]) for t in counts]
 
 

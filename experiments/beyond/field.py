@@ -29,7 +29,6 @@ import re
 import sys
 
 import numpy as np
-import pandas as pd
 
 import drivers
 import generators
@@ -112,8 +111,8 @@ def verdict(rows):
 
 def cells_of(df, regime="loop"):
     """{(peer, set, n): (median seconds or None, kind, text)} of a sweep's
-    cells in ``regime`` (rows without one are the loop regime's)."""
-    df = df[_regime(df) == regime]
+    cells in ``regime``."""
+    df = df[df["regime"] == regime]
     s = results.summarize(df)
     out = {}
     for (peer, d, n), rows in df.groupby(["peer", "distribution", "n"], sort=False):
@@ -124,11 +123,7 @@ def cells_of(df, regime="loop"):
 
 def regimes_of(df):
     """The regimes a sweep measured, in REGIMES' order."""
-    return [r for r in REGIMES if r in set(_regime(df))]
-
-
-def _regime(df):
-    return df["regime"] if "regime" in df else pd.Series("loop", index=df.index)
+    return [r for r in REGIMES if r in set(df["regime"])]
 
 
 def exactness_table(df):
@@ -212,10 +207,11 @@ def plot(df, out):
     field-<regime>.png for the others) and the exactness figure."""
     print("\n" + "\n".join(timing_tables(df)))
     print("\nExactness on the hard sets:\n" + "\n".join(exactness_table(df)))
+    by_regime = {regime: cells_of(df, regime) for regime in regimes_of(df)}
     paths = []
-    for regime in regimes_of(df):
-        paths += _time_figure(cells_of(df, regime), out, regime)
-    cells = cells_of(df)
+    for regime, cells in by_regime.items():
+        paths += _time_figure(cells, out, regime)
+    cells = by_regime.get("loop", {})
     hard = [d for d in HARD_SETS if any(k[1] == d for k in cells)]
     if hard:
         paths += _exactness_figure(cells, hard, out)
