@@ -13,7 +13,7 @@ from .._input import exact_points, index_dtype
 from ..clock import cycles_per_second
 from ..predicates.counters import DUPLICATES, NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
 from ..triangulation import Triangulation
-from . import kernel
+from . import kernel, tetra
 
 # the walk counts its orientation tests, not their stages
 _COUNTED = [NAMES[k] for k in range(N_INSERT) if k not in (ORIENT_S1, ORIENT_S2)]
@@ -103,14 +103,18 @@ def insert(points: npt.ArrayLike, *,
     # whatever the insertion order (the Kd order jumps across space at every
     # level).
     kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
-    C, N, mark, ncells, dup_rank, cnt, ok, records = kernel.insert_all(
-        stored, d, perm, hints, span, timing=phase_times)
+    if d == 3:
+        insertion = tetra.insert_all(stored, perm, hints, span, timing=phase_times)
+    else:
+        insertion = kernel.insert_all(stored, d, perm, hints, span, timing=phase_times)
+    C, N, mark, ncells, dup_rank, cnt, ok, records = insertion
     duplicates = int(cnt[DUPLICATES])  # points found equal to one inserted before
     dup_of = kernel.duplicate_of(store, dup_rank) if duplicates else None
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
-        simplices, neighbors, facets = kernel.finite_cells(C, N, mark, store, records)
+        simplices, neighbors, facets = kernel.finite_cells(C, N, mark, store, records,
+                                                           shift=2 if d == 3 else 0)
         del C, N, mark, records  # the simplices now stand where the cells were
         hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
         if duplicates:

@@ -811,7 +811,7 @@ def _insert_all(P, d, planar, spatial, order, span, cells, dup_of, max_cells, ti
     return Inserted(cells.C[:m], cells.N[:m], cells.mark[:m], m, dup_of, counts, ok)
 
 
-def finite_cells(C, N, mark, ids, records=None):
+def finite_cells(C, N, mark, ids, records=None, shift=0):
     """(simplices, neighbors, facets) of the live cells (``mark`` not
     DEAD): the finite ones with vertices mapped through ``ids``, neighbours
     renumbered, -1 across the hull, and the hull's facets, oriented
@@ -840,7 +840,7 @@ def finite_cells(C, N, mark, ids, records=None):
     else:
         flat = records.reshape(-1)
         simplices = flat[:finite * width].reshape(finite, width)
-    _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets)
+    _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets, shift)
     if records is not None:
         simplices = workspace.keep_prefix(flat, finite * width).reshape(finite, width)
     return simplices, neighbors, facets
@@ -884,7 +884,7 @@ OUTPUT_AHEAD = 32
 
 
 @njit(cache=True)
-def _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets):
+def _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets, shift):
     m, width = C.shape
     j = 0
     n_inf = 0
@@ -899,7 +899,7 @@ def _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets):
             continue
         for i in range(width):
             simplices[u(j), u(i)] = ids[u(C[u(c), u(i)])]
-            nb = N[u(c), u(i)]
+            nb = N[u(c), u(i)] >> shift
             neighbors[u(j), u(i)] = rank(bits, first, nb) if bit(bits, nb) else -1
         j += 1
 
