@@ -81,8 +81,9 @@ class Delaunay:
         use for Qhull's joggling, scaling or precision options.
     **options
         Passed to ``lfqt.triangulate`` (2D) or ``lfqt.insert`` (3D).
-        ``threads`` (default 1) also runs ``find_simplex`` and the derived
-        attributes' kernels on that many threads, in 2D and 3D.
+        ``threads`` (default 1) builds the triangulation on that many
+        threads, and runs ``find_simplex`` and the derived attributes'
+        kernels on them, in 2D and 3D.
 
     Raises
     ------
@@ -184,8 +185,8 @@ class Delaunay:
         d = arr.shape[1]
         if d == 2:
             tri = triangulate(arr, **self._options)
-        else:  # insertion is serial: threads serve location and the derived attributes
-            tri = insert(arr, **{k: v for k, v in self._options.items() if k != "threads"})
+        else:
+            tri = insert(arr, **self._options)
         if tri.degenerate:
             raise _degenerate_error(f"cannot triangulate: {tri.reason}")
         self._tri = tri

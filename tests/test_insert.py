@@ -1,15 +1,18 @@
 """Incremental insertion in 2D and 3D: every mesh is verified exactly."""
 import copy
 import itertools
+import json
+import pathlib
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 import scipy.spatial
-from hypothesis import given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 import lfqt
+from lfqt.incremental import tetra
 from lfqt.incremental.kernel import finite_cells, insert_all
 from lfqt import orders, predicates as P
 from lfqt.predicates.counters import CONFLICTS
@@ -129,10 +132,10 @@ def test_more_cells_than_int32_ids_allow_is_a_clear_error():
     pts = np.r_[cospherical_integer_points(121), [[0.0, 0.0, 0.0]]]
     P3 = exact_points3(pts)
     perm, hint = np.arange(len(pts)), np.full(len(pts), -1)
-    full = insert_all(P3, 3, perm, hint, 16.0, 8)[3]  # cells used, growing from 8
-    assert insert_all(P3, 3, perm, hint, 16.0, 8, full)[3] == full  # exactly enough
+    full = tetra.insert_all(P3, perm, hint, 16.0, 8)[3]  # records used, growing from 8
+    assert tetra.insert_all(P3, perm, hint, 16.0, 8, full)[3] == full  # exactly enough
     with pytest.raises(ValueError, match="int32"):
-        insert_all(P3, 3, perm, hint, 16.0, 8, full - 1)
+        tetra.insert_all(P3, perm, hint, 16.0, 8, full - 1)
 
 
 @pytest.mark.parametrize("d", [2, 3])
@@ -141,11 +144,12 @@ def test_output_written_over_the_records_is_the_output_beside_them(d, n):
     rng = np.random.default_rng(d)
     P = rng.random((n, d))
     perm, hint = np.arange(n), np.full(n, -1)
-    run = insert_all(P, d, perm, hint, 1.0)
+    run = insert_all(P, d, perm, hint, 1.0) if d == 2 else tetra.insert_all(P, perm, hint, 1.0)
     assert run.records is not None and run.ok
     ids = rng.permutation(n)
-    beside = finite_cells(run.C, run.N, run.mark, ids)
-    over = finite_cells(run.C, run.N, run.mark, ids, run.records)
+    shift = 2 if d == 3 else 0  # 3D neighbours are facet refs, 4 t + i
+    beside = finite_cells(run.C, run.N, run.mark, ids, shift=shift)
+    over = finite_cells(run.C, run.N, run.mark, ids, run.records, shift=shift)
     assert np.shares_memory(over[0], run.records)
     for a, b in zip(beside, over):
         assert np.array_equal(a, b)
@@ -158,12 +162,12 @@ def test_growth_paths_give_the_same_mesh():
     P3 = exact_points3(pts)
     perm = np.arange(len(pts))
     hint = np.full(len(pts), -1)
-    small = insert_all(P3, 3, perm, hint, 16.0, 8)  # tiny cell storage, grows many times
-    big = insert_all(P3, 3, perm, hint, 16.0, 0)
+    small = tetra.insert_all(P3, perm, hint, 16.0, 8)  # tiny storage, grows many times
+    big = tetra.insert_all(P3, perm, hint, 16.0, 0)
     assert small.records is None and big.records is not None  # grown past them, or not
     ids = np.arange(len(pts))
-    s_small, _, _ = finite_cells(small[0], small[1], small[2], ids)
-    s_big, _, _ = finite_cells(big[0], big[1], big[2], ids)
+    s_small, _, _ = finite_cells(small[0], small[1], small[2], ids, shift=2)
+    s_big, _, _ = finite_cells(big[0], big[1], big[2], ids, shift=2)
     assert cells(s_small) == cells(s_big)
     assert big[5][CONFLICTS] > 256  # the centre's cavity outgrew the initial scratch
     insert_verified(pts, order="input")
@@ -171,16 +175,17 @@ def test_growth_paths_give_the_same_mesh():
 
 @pytest.mark.parametrize("d", [2, 3])
 def test_an_insertion_compiles_only_its_own_dimensions_kernel(d):
-    # _insert_all typed afresh in a child process, whatever the numba cache
-    # holds: the other dimension's range kernel must not be compiled (it
-    # took 11-13 s of a first call with a cold cache)
+    # the drivers typed afresh in a child process, whatever the numba cache
+    # holds: the other dimension's range kernel must not be loaded or
+    # compiled (it took 11-13 s of a first call with a cold cache)
     code = f"""
 import numba, numpy as np, lfqt
-from lfqt.incremental import kernel
+from lfqt.incremental import kernel, tetra
 kernel._insert_all = numba.njit(kernel._insert_all.py_func)
+tetra._run_alone = numba.njit(tetra._run_alone.py_func)
 P = np.random.default_rng(0).random((50, {d}))
 assert lfqt.verify(P, lfqt.insert(P)).ok
-print(len(kernel._insert_range_2d.signatures), len(kernel._insert_range_3d.signatures))
+print(len(kernel._insert_range_2d.signatures), len(tetra._insert_lane.signatures))
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=600)
@@ -262,3 +267,99 @@ def test_insert_leaves_its_input_untouched(d, scale, order, rng):
     assert np.array_equal(pts, before) and tri.points is pts
     assert tri.n_distinct == 3000
     assert np.array_equal(tri.duplicate_of, np.arange(3000))
+
+
+# Parallel 3D insertion (tetra's lanes).  The lanes start after SEQUENTIAL
+# points; the tests lower it so that small sets run in rounds, and a child
+# process runs the sets that could crash a kernel.
+PARALLEL_CASES = """
+import json, sys
+sys.path.insert(0, "tests")
+import numpy as np
+import lfqt
+from lfqt.incremental import tetra
+from test_insert import hard_3d_sets
+tetra.SEQUENTIAL = 64
+if len(sys.argv) > 1:  # a lane's records run out: its other points are deferred
+    tetra.LANE_RECORDS, tetra.LANE_SLACK = 2, 8
+out = {}
+for name, pts in hard_3d_sets():
+    got = {}
+    for threads in (1, 2, 7):
+        a = lfqt.insert(pts, threads=threads)
+        b = lfqt.insert(pts, threads=threads)
+        assert lfqt.verify(pts, a).ok, (name, threads, lfqt.verify(pts, a).reason)
+        assert np.array_equal(a.simplices, b.simplices), (name, threads)  # run to run
+        got[threads] = sorted(map(tuple, np.sort(a.simplices, axis=1).tolist()))
+    out[name] = got[1] == got[2] == got[7]
+print(json.dumps(out))
+"""
+
+
+def hard_3d_sets():
+    """(name, points) of the 3D sets the parallel tests run: random, a
+    grid, cospherical integers, duplicates, -0.0, huge, tiny and subnormal
+    magnitudes."""
+    rng = np.random.default_rng(5)
+    grid = np.stack(np.meshgrid(*[np.arange(12.0)] * 3), -1).reshape(-1, 3)
+    uniform = rng.random((3000, 3))
+    dups = np.r_[uniform[:1500], uniform[:700]]
+    signed = np.r_[grid[:500] - 5.0, [[-0.0, 0.0, -0.0]]]
+    return [("uniform", uniform), ("grid", grid),
+            ("cospherical", cospherical_integer_points(121)),
+            ("duplicates", dups), ("signed zero", signed),
+            ("huge", uniform * 1e300), ("tiny", uniform * 1e-300),
+            ("subnormal", grid[:800] * 5e-324)]
+
+
+@pytest.mark.parametrize("starved", [False, True])
+def test_parallel_3d_is_exact_deterministic_and_the_same_where_unique(starved):
+    args = [sys.executable, "-c", PARALLEL_CASES] + (["starved"] if starved else [])
+    proc = subprocess.run(args, capture_output=True, text=True, timeout=900,
+                          cwd=pathlib.Path(__file__).resolve().parents[1])
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    same = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert set(same) == {name for name, _ in hard_3d_sets()}
+    # unique Delaunay tetrahedralizations: the same tetrahedra on every count
+    for name in ("uniform", "duplicates", "huge", "tiny"):
+        assert same[name], name
+
+
+def test_parallel_3d_runs_in_rounds_and_matches_one_thread(rng, monkeypatch):
+    monkeypatch.setattr(tetra, "SEQUENTIAL", 256)
+    passes = []
+    real = tetra._parallel_pass
+
+    def spy(*args):
+        out = real(*args)
+        passes.append((len(args[2]), len(out[2])))
+        return out
+
+    monkeypatch.setattr(tetra, "_parallel_pass", spy)
+    pts = rng.random((20000, 3))
+    one = lfqt.insert(pts, threads=1)
+    assert not passes  # one thread: no lanes
+    two = insert_verified(pts, threads=2)
+    assert len(passes) >= 2 * 5  # rounds of 256, 512, ... each in two passes
+    assert all(left < todo or todo == 0 for todo, left in passes)  # every pass inserts
+    assert cells(one.simplices) == cells(two.simplices)
+    assert lfqt.Delaunay(pts, threads=2).simplices.shape == one.simplices.shape
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(*[st.integers(-3, 3).map(float)] * 3), min_size=5, max_size=120))
+def test_parallel_3d_random_integer_sets_are_delaunay(points):
+    points = np.array(points)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(tetra, "SEQUENTIAL", 8)
+        tri = lfqt.insert(points, threads=3)
+    report = lfqt.verify(points, tri)
+    assert report.ok or tri.degenerate, report.reason
+
+
+def test_threads_must_be_a_positive_integer():
+    pts = np.random.default_rng(0).random((50, 3))
+    for bad in (0, -1, 1.5, True, "2"):
+        with pytest.raises(ValueError, match="threads"):
+            lfqt.insert(pts, threads=bad)
+    assert lfqt.insert(pts, threads=None).simplices.shape[1] == 4

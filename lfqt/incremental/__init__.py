@@ -2,6 +2,7 @@
 validated public wrapper ``insert`` over the kernels of lfqt.incremental.kernel."""
 from __future__ import annotations
 
+import os
 import time
 from collections import namedtuple
 
@@ -27,7 +28,7 @@ MAX_POINTS = (2 ** 31 - 1) // kernel.CELLS_PER_POINT
 def insert(points: npt.ArrayLike, *,
            order: orders.OrderName | tuple[npt.ArrayLike, npt.ArrayLike] = "kdtree",
            hint: orders.Hint | None = None, counters: bool = True, phase_times: bool = False,
-           seed: int = 0) -> Triangulation:
+           seed: int = 0, threads: int = 1) -> Triangulation:
     """Exact Delaunay triangulation of 2D or 3D points by incremental
     insertion (Bowyer–Watson) in a given order (Liu et al. 2013).
 
@@ -53,6 +54,16 @@ def insert(points: npt.ArrayLike, *,
         point cost about 4% of a 2D insertion (1M points, on a VM).
     seed : int
         For the randomized orders.
+    threads : int
+        3D: insert on this many threads (None: one per core).  After the
+        first points, the order goes in rounds, each point by the thread
+        that owns its part of space; a point whose cavity crosses into
+        another part is retried with the parts moved, or inserted alone at
+        the end.  The tetrahedra are the same on every thread count where
+        the Delaunay tetrahedralization is unique, and the same run to run
+        for a given count otherwise; the counts are those of that
+        insertion, not the order's alone.  2D: ignored (``triangulate`` is
+        the parallel 2D path).
 
     Returns
     -------
@@ -104,7 +115,8 @@ def insert(points: npt.ArrayLike, *,
     # level).
     kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
     if d == 3:
-        insertion = tetra.insert_all(stored, perm, hints, span, timing=phase_times)
+        insertion = tetra.insert_all(stored, perm, hints, span, timing=phase_times,
+                                     threads=_threads(threads))
     else:
         insertion = kernel.insert_all(stored, d, perm, hints, span, timing=phase_times)
     C, N, mark, ncells, dup_rank, cnt, ok, records = insertion
@@ -152,6 +164,15 @@ def insert(points: npt.ArrayLike, *,
 Order = namedtuple("Order", "perm hints name store stored")
 # The output of points that span fewer than d dimensions.
 Degenerate = namedtuple("Degenerate", "simplices neighbors hull dup_of n_distinct reason")
+
+
+def _threads(threads):
+    """The thread count ``threads`` asks for (None: the cores)."""
+    if threads is None:
+        return os.cpu_count() or 1
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be a positive integer or None, got {threads!r}")
+    return int(threads)
 
 
 def _order(P, order, hint, seed):

@@ -1,4 +1,6 @@
-"""Incremental Delaunay (Bowyer–Watson) in 2D and 3D, in a given order.
+"""Incremental Delaunay (Bowyer–Watson) in 2D, in a given order, and the
+pieces that the 3D kernel (lfqt.incremental.tetra) shares with it: the
+initial simplex, the static filters, the hull's conflict rule, the output.
 
 Cells are rows of flat arrays: ``C[c]`` holds the d+1 vertices (input
 indices), ``N[c, i]`` the cell across the face opposite vertex i.  The hull
@@ -159,8 +161,7 @@ def _initial_simplex(P, d, perm):
 # tuples: C (m, d+1) vertices, N (m, d+1) neighbours and mark (cavity stamps,
 # DEAD for a freed cell), three views of one record per cell (_records);
 # vcell (a live cell of each vertex), free (the free list); stack and slots
-# (the depth-first search), conflicts, bcell/bface (cavity-boundary facets)
-# and the ridge hash table (3D).
+# (the depth-first search), conflicts, bcell/bface (cavity-boundary facets).
 Cells = namedtuple("Cells", "C N mark vcell free")
 # insert_all's result: the live and dead cells' rows C and N and marks (DEAD
 # for a freed cell), their count, dup_of, counts, ok, and the records that
@@ -168,7 +169,7 @@ Cells = namedtuple("Cells", "C N mark vcell free")
 # writes over them
 Insertion = namedtuple("Insertion", "C N mark ncells dup_of counts ok records")
 Inserted = namedtuple("Inserted", Insertion._fields[:-1])  # _insert_all's: all but records
-Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface hkeys hvals hstamps")
+Scratch = namedtuple("Scratch", "stack slots conflicts bcell bface")
 # state: (cells in use, free-list length, cavity stamp, last inserted point)
 NCELLS, NFREE, STAMP, LAST = range(4)
 
@@ -238,69 +239,13 @@ def _conflicts(P, d, C, y, p, span, static):
     return _inside_facet_circle(d, a, b, e, q, span), 0
 
 
-# The faces through p of a new cell with p in slot i, and each face's ridge
-# (its vertices other than p), as slots: FACE[d][i, j] is the j-th face,
-# RIDGE[d][i, j] its two other slots (in 2D the ridge is one vertex, twice).
-# In 3D with p in slot 1:
-#
-#     j          0        1        2
-#     face       0        2        3        (the face opposite that slot)
-#     ridge    (2, 3)   (0, 3)   (0, 2)     (its slots other than p's)
-def _face_tables(d):
-    width = d + 1
-    face = np.zeros((width, d), dtype=np.int64)
-    ridge = np.zeros((width, d, 2), dtype=np.int64)
-    for i in range(width):
-        ks = [k for k in range(width) if k != i]
-        for j, k in enumerate(ks):
-            rest = [m for m in range(width) if m != i and m != k] * 2
-            face[i, j] = k
-            ridge[i, j] = rest[:2]
-    return face, ridge
-
-
-FACE2, RIDGE2 = _face_tables(2)
-FACE3, RIDGE3 = _face_tables(3)
-
-
-@njit(cache=True, inline="always")
-def _ridge_key(C, d, n, w, i, j):
-    """(face, key) of new cell w's j-th face through p (p in slot i): the
-    face's slot and the key of its ridge, the face's vertices other than p."""
-    if d == 2:
-        k = FACE2[i, j]
-        return k, C[u(w), u(RIDGE2[i, j, 0])] + 1
-    k = FACE3[i, j]
-    ra = C[u(w), u(RIDGE3[i, j, 0])]
-    rb = C[u(w), u(RIDGE3[i, j, 1])]
-    return k, (min(ra, rb) + 1) * (n + 1) + max(ra, rb) + 1
-
-
-@njit(cache=True, inline="always")
-def _new_cell(C, N, mark, vcell, d, w, x, i, p):
-    """Cell w: the cavity cell x with vertex i replaced by p, glued to the
-    cell outside x's face i."""
-    y = N[u(x), u(i)]
-    mark[u(w)] = 0
-    for k in range(d + 1):
-        C[u(w), u(k)] = C[u(x), u(k)]
-    C[u(w), u(i)] = p
-    N[u(w), u(i)] = y
-    for k in range(d + 1):
-        if N[u(y), u(k)] == x:
-            N[u(y), u(k)] = w
-        v = C[u(w), u(k)]
-        if v >= 0:
-            vcell[u(v)] = w
-
-
 @njit(cache=True, inline="always")
 def _new_triangle(C, N, mark, vcell, w, x, i, p):
     """Triangle w = (p, a, b) for the edge a -> b of cavity triangle x
     opposite its slot i, glued to the triangle outside that edge; its
     slots 1 and 2 are left to the caller (the triangles before and after
-    it around p).  _new_cell's 2D case, with p in a fixed slot: _new_cell
-    and the ring glued through slots i + 1, i + 2 measured slower
+    it around p).  With p in a fixed slot: the cavity triangle with p in
+    slot i, and the ring glued through slots i + 1, i + 2, measured slower
     (docs/performance.md, "2D triangles with p in slot 0")."""
     a = C[u(x), u(i + 1 if i < 2 else 0)]
     b = C[u(x), u(i - 1 if i > 0 else 2)]
@@ -349,14 +294,15 @@ Run = namedtuple("Run", "perm hint pick state counts dup_of span static")
 # point, before touching it; it returns (t, reason) to resume after growing.
 #
 # Each point goes through four steps, one inlined helper each: the walk
-# (_locate), the cavity (_cavity), the new cells (_fill_2d, _fill_3d) and
+# (_locate), the cavity (_cavity), the new triangles (_fill_2d) and
 # the freeing of the cavity's cells (_free).  The helpers loop over arrays:
 # they get borrowed views of them (lfqt.indexing.borrow), since an inlined
 # helper that loops pays numba two atomic reference counts per array and
 # call otherwise (docs/performance.md, "insertion's helpers").  No array is
 # reassigned in them for the same reason.  Indices go through ``u``
-# (lfqt.indexing).  _insert_range is inlined into one kernel per dimension,
-# so that ``d`` is a constant there.
+# (lfqt.indexing).  _insert_range is inlined into _insert_range_2d, so
+# that ``d`` is a constant there (the helpers take d: _initial_simplex and
+# _inside_facet_circle serve the 3D kernel too).
 @njit(cache=True, inline="always")
 def _insert_range(P, d, run, t0, cells, scratch, timing):
     """Insert perm[t0:] (see above)."""
@@ -365,8 +311,7 @@ def _insert_range(P, d, run, t0, cells, scratch, timing):
     cells = Cells(borrow(cells.C), borrow(cells.N), borrow(cells.mark), borrow(cells.vcell),
                   borrow(cells.free))
     scratch = Scratch(borrow(scratch.stack), borrow(scratch.slots), borrow(scratch.conflicts),
-                      borrow(scratch.bcell), borrow(scratch.bface), borrow(scratch.hkeys),
-                      borrow(scratch.hvals), borrow(scratch.hstamps))
+                      borrow(scratch.bcell), borrow(scratch.bface))
     C, vcell = cells.C, cells.vcell
     n = perm.shape[0]
     pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
@@ -390,17 +335,14 @@ def _insert_range(P, d, run, t0, cells, scratch, timing):
         state[STAMP] += 2
         nconf, nb_count, small = _cavity(P, d, cells, scratch, c, p, state[STAMP], run.span,
                                          run.static, borrow(pending))
-        if small or 4 * d * nb_count > scratch.hkeys.shape[0]:
+        if small:
             pending[:] = 0  # nothing is modified yet: this point is retried after growing
             return t, 2
         if state[NCELLS] + max(nb_count - state[NFREE], 0) > C.shape[0]:
             pending[:] = 0
             return t, 1
         _new_ids(cells, state, scratch.stack, nb_count)
-        if d == 2:
-            _fill_2d(cells, scratch, nb_count, p)
-        else:
-            _fill_3d(cells, scratch, d, n, nb_count, p, state[STAMP])
+        _fill_2d(cells, scratch, nb_count, p)
         _free(cells, state, scratch.conflicts, nconf)
         counts[CONFLICTS] += nconf
         _commit(counts, pending)
@@ -550,41 +492,6 @@ def _fill_2d(cells, scratch, count, p):
 
 
 @njit(cache=True, inline="always")
-def _fill_3d(cells, scratch, d, n, count, p, stamp):
-    """The new cells, one per boundary facet of the cavity, in the cells
-    scratch.stack[:count], glued to each other through a table of their
-    ridges (scratch.hkeys, hvals, hstamps) that uses only a prefix sized to
-    this cavity (load at most 1/4), so that it stays in L1; the stamp
-    invalidates old entries."""
-    C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
-    hkeys, hvals, hstamps = scratch.hkeys, scratch.hvals, scratch.hstamps
-    width = d + 1
-    hbits = 4
-    while (1 << hbits) < 2 * d * count:
-        hbits += 1
-    mask = (1 << hbits) - 1
-    hshift = np.uint64(64 - hbits)
-    for b in range(count):
-        i = scratch.bface[u(b)]
-        w = scratch.stack[u(b)]
-        _new_cell(C, N, mark, vcell, d, w, scratch.bcell[u(b)], i, p)
-        for j in range(d):
-            k, key = _ridge_key(C, d, n, w, i, j)
-            # Fibonacci hashing: the product's high bits
-            e = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> hshift)
-            while hstamps[u(e)] == stamp and hkeys[u(e)] != key:
-                e = (e + 1) & mask
-            if hstamps[u(e)] == stamp:
-                w2 = np.int64(np.uint64(hvals[u(e)]) // np.uint64(width))
-                N[u(w), u(k)] = w2
-                N[u(w2), u(hvals[u(e)] - w2 * width)] = w
-            else:
-                hstamps[u(e)] = stamp
-                hkeys[u(e)] = key
-                hvals[u(e)] = w * width + k
-
-
-@njit(cache=True, inline="always")
 def _free(cells, state, conflicts, count):
     """Free the cavity's cells conflicts[:count]: marked DEAD, onto the free
     list."""
@@ -600,19 +507,14 @@ def _insert_range_2d(P, run, t0, cells, scratch, timing):
 
 
 @njit(cache=True)
-def _insert_range_3d(P, run, t0, cells, scratch, timing):
-    return _insert_range(P, 3, run, t0, cells, scratch, timing)
-
-
-@njit(cache=True)
 def _records(R, width):
     """C, N and mark: views of the records R, one row of int32 per cell, so
-    that a visit to a cell reads one or two cache lines, not one per array:
+    that a visit to a cell reads one cache line, not one per array:
 
-        cell c:  | v0 v1 v2 v3 | n0 n1 n2 n3 | mark |     (2D: 3 + 3 + 1)
-                   C[c]          N[c]          mark[c]
+        cell c:  | v0 v1 v2 | n0 n1 n2 | mark |
+                   C[c]       N[c]       mark[c]
 
-    Rows are written when their cell is made (_new_cell, _start)."""
+    Rows are written when their cell is made (_new_triangle, _start)."""
     return R[:, :width], R[:, width:2 * width], R[:, 2 * width]
 
 
@@ -642,12 +544,10 @@ def _grown(cells, size):
 
 @njit(cache=True)
 def _new_scratch(size):
-    """Cavity scratch for ``size`` cells, and a ridge table of 16 per cell."""
+    """Cavity scratch for ``size`` cells."""
     return Scratch(np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
                    np.empty(size, dtype=np.int64),
-                   np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64),
-                   np.empty(16 * size, dtype=np.int64), np.empty(16 * size, dtype=np.int64),
-                   np.zeros(16 * size, dtype=np.int64))
+                   np.empty(size, dtype=np.int64), np.empty(size, dtype=np.int64))
 
 
 @njit(cache=True)
@@ -734,11 +634,11 @@ def coordinate_span(P, largest=None):
 
 
 def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
-    """Insert P[perm] one by one; returns an Insertion (C, N, mark, ncells,
-    dup_of, counts, ok, records).  ok is False when the points span fewer
-    than d dimensions.
-    Raises ValueError when the triangulation needs more than ``max_cells``
-    cells (a 3D Delaunay triangulation may have quadratically many).
+    """Insert the 2D points P[perm] one by one (d = 2; 3D points go to
+    lfqt.incremental.tetra.insert_all); returns an Insertion (C, N, mark,
+    ncells, dup_of, counts, ok, records).  ok is False when the points are
+    collinear.  Raises ValueError when the triangulation needs more than
+    ``max_cells`` cells.
     ``capacity``: the cells to start with (CELLS_PER_POINT per point by
     default).  ``timing``: count the cycles of the walks and of the cavities
     (counts' LOCATE_CYCLES, CAVITY_CYCLES; three reads of the cycle counter
@@ -750,31 +650,24 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     (lfqt.pages.huge_pays), where numba's allocations would fault in 4 KB at a time
     on every call (docs/performance.md, "insertion's pages"), and on the
     mappings of earlier calls' freed results where there are."""
+    if d != 2:
+        raise ValueError(f"the 2D insertion kernel got {d}D points (3D: tetra.insert_all)")
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     vcell = workspace.empty(n, np.int32)
     vcell.fill(-1)
     records = workspace.empty(_record_shape(cap, d + 1), np.int32)
     cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32))
-    planar, spatial = (True, None) if d == 2 else (None, True)  # (_insert_all)
-    out = _insert_all(P, d, planar, spatial, (perm, hint), span, cells, np.arange(n), max_cells,
-                      timing)
+    out = _insert_all(P, d, (perm, hint), span, cells, np.arange(n), max_cells, timing)
     grown = out.C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
     return Insertion(*out, None if grown else records)
 
 
 @njit(cache=True, nogil=True)
-def _insert_all(P, d, planar, spatial, order, span, cells, dup_of, max_cells, timing):
+def _insert_all(P, d, order, span, cells, dup_of, max_cells, timing):
     """insert_all's kernel, into ``cells`` (growing them when full), in
     ``order`` = (perm, hint); dup_of starts as the identity.  Returns an
-    Inserted.
-
-    ``planar`` and ``spatial`` tell numba the dimension: one is None, the
-    other True.  numba drops a branch on an argument typed None before it
-    types the rest, so a call compiles only its own dimension's range
-    kernel; with a branch on d it compiled both (docs/performance.md,
-    "insertion's first call").  A kernel passed as an argument would do the
-    same, but numba does not cache a function that takes one."""
+    Inserted."""
     perm, hint = order
     counts = np.zeros(N_INSERT, dtype=np.int64)
     width = d + 1
@@ -792,11 +685,7 @@ def _insert_all(P, d, planar, spatial, order, span, cells, dup_of, max_cells, ti
         run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, d))
         t = np.int64(0)
         while True:
-            reason = 0
-            if planar is not None:
-                t, reason = _insert_range_2d(P, run, t, cells, scratch, timing)
-            if spatial is not None:
-                t, reason = _insert_range_3d(P, run, t, cells, scratch, timing)
+            t, reason = _insert_range_2d(P, run, t, cells, scratch, timing)
             if reason == 0:
                 break
             if reason == 1:

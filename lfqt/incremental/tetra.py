@@ -1,4 +1,4 @@
-"""Incremental Delaunay in 3D (Bowyer–Watson) on tetrahedron records that
+r"""Incremental Delaunay in 3D (Bowyer–Watson) on tetrahedron records that
 name the facet they share with each neighbour, after HXT (Marot, Pellerin
 and Remacle 2019).
 
@@ -44,13 +44,14 @@ import numpy as np
 from numba import njit
 
 from .. import workspace
+from ..workers import Workers
 from ..clock import cycle_counter
 from ..indexing import borrow, prefetch, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
 from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
-from .kernel import (DEAD, INF, LAST, NCELLS, NFREE, STAMP, WALK_AHEAD, Insertion, Run, _commit,
-                     _initial_simplex, _inside_facet_circle, statics)
+from .kernel import (DEAD, INF, WALK_AHEAD, Insertion, _commit, _initial_simplex,
+                     _inside_facet_circle, statics)
 
 CELLS_PER_POINT = 8  # the records insert_all starts with (they double when full)
 MAX_CELLS = 2 ** 29 - 1  # 4 t + i is an int32
@@ -61,15 +62,13 @@ WIDTH = 8  # int32 per record
 FACET = np.array([[1, 2, 3], [2, 0, 3], [0, 1, 3], [1, 0, 2]], dtype=np.int64)
 SMALL = 32  # local vertex numbers the edge table takes (HXT's bound)
 
-# The records (R; C and A are views of its columns), the cavity marks,
-# a live tetrahedron of each vertex, and the free list.
-Tets = namedtuple("Tets", "R mark vcell free")
+# The records, the cavity marks and a live tetrahedron of each vertex.
+Tets = namedtuple("Tets", "R mark vcell")
 # The cavity scratch: the removed tetrahedra (cav), the boundary triangles
 # (tri: their vertices, then the outside facet), their local vertex numbers
 # (loc), the local number of each vertex (vid, per point), the edge table
 # (edges) and the hash table of large cavities (hkeys, hvals, hstamps).
 Dig = namedtuple("Dig", "cav tri loc vid edges hkeys hvals hstamps")
-Inserted = namedtuple("Inserted", "R mark ncells dup_of counts ok")
 
 
 @njit(cache=True, inline="always")
@@ -114,16 +113,35 @@ def _conflicts(P, R, y, p, span, static):
 
 
 @njit(cache=True, inline="always")
-def _locate(P, R, c, p, rnd, static, pending):
-    """(the tetrahedron containing p, the walk's random state): a
-    remembering visibility walk from tetrahedron c, or from the finite one
-    next to it, that stops in a finite tetrahedron with p on no face's far
-    side, or steps into an infinite one whose hull facet p lies beyond.
-    Each step crosses the first face, from a random one on, that p lies
-    beyond, which keeps the walk from cycling.  Its orientation tests go to
-    ``pending``."""
+def _ours(part, v):
+    """Is vertex v in the lane's part: (owner, lane) with owner[v] the
+    lane of each vertex, or lane -1 for all of them.  INF belongs to every
+    part."""
+    owner, lane = part
+    return lane < 0 or v < 0 or owner[u(v)] == lane
+
+
+@njit(cache=True, inline="always")
+def _all_ours(R, part, t):
+    return (_ours(part, R[u(t), 0]) and _ours(part, R[u(t), 1]) and _ours(part, R[u(t), 2])
+            and _ours(part, R[u(t), 3]))
+
+
+@njit(cache=True, inline="always")
+def _locate(P, R, c, p, rnd, static, part, pending):
+    """(the tetrahedron containing p, the walk's random state, whether the
+    walk stayed in the lane's part): a remembering visibility walk from
+    tetrahedron c, or from the finite one next to it, that stops in a
+    finite tetrahedron with p on no face's far side, or steps into an
+    infinite one whose hull facet p lies beyond.  Each step crosses the
+    first face, from a random one on, that p lies beyond, which keeps the
+    walk from cycling.  It enters only tetrahedra whose vertices are all in
+    ``part`` (see _insert_lane).  Its orientation tests go to ``pending``."""
     if not _finite(R, c):
-        c = R[u(c), 7] >> 2
+        ref = R[u(c), 7]
+        c = ref >> 2
+        if not _ours(part, R[u(c), u(ref & 3)]):
+            return c, rnd, False
     prev = -1
     moved = True
     while moved and _finite(R, c):
@@ -134,15 +152,18 @@ def _locate(P, R, c, p, rnd, static, pending):
         moved = False
         for q in range(4):
             i = (q + rot) & 3
-            nb = R[u(c), u(4 + i)] >> 2
+            ref = R[u(c), u(4 + i)]
+            nb = ref >> 2
             if nb == prev:
                 continue
             o, st = _orient_with(P, R, c, i, p, static[0])
             pending[ORIENT] += 1
             if o < 0.0:
+                if not _ours(part, R[u(nb), u(ref & 3)]):
+                    return nb, rnd, False
                 prev, c, moved = c, nb, True
                 break
-    return c, rnd
+    return c, rnd, True
 
 
 @njit(cache=True, inline="always")
@@ -163,9 +184,11 @@ def _duplicate_in(P, R, c, p):
 # tetrahedron joins the cavity, its neighbours' records and marks are
 # asked for at once: they are read next, and cache misses otherwise.
 @njit(cache=True, inline="always")
-def _dig(P, tets, dig, c, p, stamp, span, static, pending):
-    """(removed tetrahedra, boundary triangles, whether the scratch was too
-    small) of p's cavity from tetrahedron c."""
+def _dig(P, tets, dig, c, p, stamp, run, part, pending):
+    """(removed tetrahedra, boundary triangles, status) of p's cavity from
+    tetrahedron c: status 0, or SMALL_SCRATCH when the scratch was too
+    small, or FOREIGN when the cavity reaches a vertex outside ``part``.
+    Only marks are changed."""
     R, mark = tets.R, tets.mark
     cav, tri = dig.cav, dig.tri
     cav[0] = c
@@ -181,12 +204,14 @@ def _dig(P, tets, dig, c, p, stamp, span, static, pending):
             if m == stamp:
                 continue
             if m != stamp + 1:
-                conflict, st = _conflicts(P, R, y, p, span, static)
+                conflict, st = _conflicts(P, R, y, p, run.span, run.static)
                 if st > 0:
                     tally(pending, INCIRCLE, st)
                 if conflict:
+                    if not _ours(part, R[u(y), u(ref & 3)]):
+                        return ncav, nb, FOREIGN
                     if ncav == cav.shape[0]:
-                        return ncav, nb, True
+                        return ncav, nb, SMALL_SCRATCH
                     mark[u(y)] = stamp
                     cav[u(ncav)] = y
                     ncav += 1
@@ -196,38 +221,39 @@ def _dig(P, tets, dig, c, p, stamp, span, static, pending):
                     continue
                 mark[u(y)] = stamp + 1
             if nb == tri.shape[0]:
-                return ncav, nb, True
+                return ncav, nb, SMALL_SCRATCH
             tri[u(nb), 0] = R[u(x), u(FACET[f, 0])]
             tri[u(nb), 1] = R[u(x), u(FACET[f, 1])]
             tri[u(nb), 2] = R[u(x), u(FACET[f, 2])]
             tri[u(nb), 3] = ref
             nb += 1
-    return ncav, nb, False
+    return ncav, nb, 0
 
 
 @njit(cache=True, inline="always")
-def _new_id(tets, state, cav, ncav, b):
+def _new_id(lane, cav, ncav, b):
     """The record of the b-th new tetrahedron: the removed ones' first,
-    then the free list's, then fresh ones."""
+    then the lane's free list's, then fresh ones of the lane's range."""
+    state = lane.state
     if b < ncav:
         return cav[u(b)]
     if state[NFREE] > 0:
         state[NFREE] -= 1
-        return tets.free[u(state[NFREE])]
-    state[NCELLS] += 1
-    return state[NCELLS] - 1
+        return lane.free[u(state[NFREE])]
+    state[NEXT] += 1
+    return state[NEXT] - 1
 
 
 @njit(cache=True, inline="always")
-def _fill(tets, dig, ncav, nb, p, state):
+def _fill(tets, dig, lane, ncav, nb, p):
     """The new tetrahedra (p, a, b, c), one per boundary triangle, each
     glued outward across facet 0; the removed tetrahedra left over go to
-    the free list.  Returns whether the edge table served (else _glue_large
-    must)."""
+    the lane's free list.  Returns whether the edge table glued them to
+    each other (else _glue_large must)."""
     R, mark, vcell = tets.R, tets.mark, tets.vcell
     tri, loc, vid, cav = dig.tri, dig.loc, dig.vid, dig.cav
     for b in range(nb):
-        w = _new_id(tets, state, cav, ncav, b)
+        w = _new_id(lane, cav, ncav, b)
         R[u(w), 0] = p
         R[u(w), 1] = tri[u(b), 0]
         R[u(w), 2] = tri[u(b), 1]
@@ -243,10 +269,12 @@ def _fill(tets, dig, ncav, nb, p, state):
                 vcell[u(v)] = w
                 vid[u(v)] = -1
         vcell[u(p)] = w
+    state = lane.state
     for b in range(nb, ncav):
         mark[u(cav[u(b)])] = DEAD
-        tets.free[u(state[NFREE])] = cav[u(b)]
-        state[NFREE] += 1
+        if state[NFREE] < lane.free.shape[0]:  # else the record is lost until the end
+            lane.free[u(state[NFREE])] = cav[u(b)]
+            state[NFREE] += 1
     # local numbers: INF is 0, the others 1, 2, ... in order of appearance
     count = 1
     for b in range(nb):
@@ -317,59 +345,98 @@ def _probe(hkeys, hstamps, key, hshift, mask, stamp):
     return e
 
 
-# _insert_range inserts perm[t0:] until done (returns (n, 0)) or until the
-# records (reason 1) or the cavity scratch (2) are too small for the next
-# point, before changing anything but marks; it returns (t, reason) to
-# resume after growing.  Each point: the walk (_locate), the cavity (_dig),
-# the new tetrahedra (_fill, _glue_large).  The helpers get borrowed views
-# of the arrays (lfqt.indexing.borrow), as kernel._insert_range's do.
-@njit(cache=True)
-def _insert_range(P, run, t0, tets, dig, timing):
-    """Insert perm[t0:] (see above)."""
+# A lane inserts a list of points (positions in perm) into the shared
+# records, alone (one lane: the whole insertion) or beside other lanes on
+# other threads.  Each lane owns a part of the vertex ids, and touches
+# only tetrahedra with three or four vertices in it; the ids follow
+# space (orders.layout), so a part is a region.  A lane walks only through
+# tetrahedra all of whose vertices are its own, and a cavity it digs must
+# be made of such tetrahedra: a point whose walk or cavity reaches
+# another part is deferred.  Then no two lanes write the same record, or
+# read one that another writes: a tetrahedron that a lane removes or
+# makes has all four vertices in its part, and one whose outward facet it
+# re-glues, three.  INF is in every part.  A lane takes new records from
+# its own range and free list, and marks with its own stamps (stamp,
+# stamp + 1, then + step, where lanes start at different even numbers).
+#
+# lane.state: the lane's next fresh record and the end of its range, its
+# free list's length, its stamp and step, its last point, and the number
+# of points it deferred (positions in lane.deferred).
+NEXT, END, NFREE, STAMP, STEP, LAST, NDEFER = range(7)
+FOREIGN, SMALL_SCRATCH = 1, 2
+Lane = namedtuple("Lane", "state free counts part deferred")
+# The insertion's order, duplicates and filters: perm, hint, pick (the
+# initial simplex's positions in perm), dup_of, and the filters' span and
+# static bounds (kernel.statics).
+Run = namedtuple("Run", "perm hint pick dup_of span static")
+
+
+# _insert_lane inserts perm[todo[k0:]] until done (returns (len, 0)) or
+# until the records (reason 1) or the cavity scratch (2) are too small for
+# the next point, before changing anything but marks; it returns (k,
+# reason) to resume after growing.  Each point: the walk (_locate), the
+# cavity (_dig), the new tetrahedra (_fill, _glue_large).  The helpers get
+# borrowed views of the arrays (lfqt.indexing.borrow), as
+# kernel._insert_range's do.
+@njit(cache=True, nogil=True)
+def _insert_lane(P, run, todo, k0, tets, dig, lane, seed, timing):
+    """Insert perm[todo[k0:]] in the lane (see above)."""
     perm, hint, pick, dup_of = run.perm, run.hint, run.pick, run.dup_of
-    state, counts = borrow(run.state), borrow(run.counts)
-    tets = Tets(borrow(tets.R), borrow(tets.mark), borrow(tets.vcell), borrow(tets.free))
+    state, counts, part = borrow(lane.state), borrow(lane.counts), lane.part
+    lane = Lane(state, borrow(lane.free), counts, part, borrow(lane.deferred))
+    tets = Tets(borrow(tets.R), borrow(tets.mark), borrow(tets.vcell))
     dig = Dig(borrow(dig.cav), borrow(dig.tri), borrow(dig.loc), borrow(dig.vid),
               borrow(dig.edges), dig.hkeys, dig.hvals, dig.hstamps)
     R, vcell = tets.R, tets.vcell
-    n = perm.shape[0]
+    m = todo.shape[0]
     pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
-    rnd = np.uint64(88172645463325252 + t0)
-    for t in range(t0, n):
+    rnd = np.uint64(88172645463325252) + np.uint64(seed)
+    for k in range(k0, m):
+        t = todo[u(k)]
         if pick[0] == t or pick[1] == t or pick[2] == t or pick[3] == t:
             continue  # a vertex of the initial simplex
-        ahead = hint[u(min(t + WALK_AHEAD, n - 1))]
+        ahead = hint[u(todo[u(min(k + WALK_AHEAD, m - 1))])]
         prefetch(R, np.int64(vcell[u(ahead)] if ahead >= 0 else 0))
         p = perm[u(t)]
         h = hint[u(t)]
-        c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
+        c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else -1
+        if c < 0 or not _all_ours(R, part, c):
+            c = vcell[u(state[LAST])]
         c_start = cycle_counter() if timing else 0
-        c, rnd = _locate(P, R, c, p, rnd, run.static, borrow(pending))
+        ok = _all_ours(R, part, c)
+        if ok:
+            c, rnd, ok = _locate(P, R, c, p, rnd, run.static, part, borrow(pending))
         c_located = cycle_counter() if timing else 0
-        dup = _duplicate_in(P, R, c, p) if _finite(R, c) else -1
-        if dup >= 0:
-            dup_of[u(p)] = dup
-            counts[DUPLICATES] += 1
-            _commit(counts, pending)
-            continue
-        state[STAMP] += 2
-        ncav, nb, small = _dig(P, tets, dig, c, p, state[STAMP], run.span, run.static,
-                               borrow(pending))
-        if small or 6 * nb > dig.hkeys.shape[0]:
-            pending[:] = 0  # nothing but marks is changed: retried after growing
-            return t, 2
-        if state[NCELLS] + max(nb - ncav - state[NFREE], 0) > R.shape[0]:
+        if ok:
+            dup = _duplicate_in(P, R, c, p) if _finite(R, c) else -1
+            if dup >= 0:
+                dup_of[u(p)] = dup
+                counts[DUPLICATES] += 1
+                _commit(counts, pending)
+                continue
+            state[STAMP] += state[STEP]
+            ncav, nb, status = _dig(P, tets, dig, c, p, state[STAMP], run, part, borrow(pending))
+            if status == SMALL_SCRATCH or 6 * nb > dig.hkeys.shape[0]:
+                pending[:] = 0  # nothing but marks is changed: retried after growing
+                return k, 2
+            ok = status == 0
+        if not ok:
             pending[:] = 0
-            return t, 1
-        if not _fill(tets, dig, ncav, nb, p, state):
-            _glue_large(R, dig, nb, n + 1, state[STAMP])
+            lane.deferred[u(state[NDEFER])] = t
+            state[NDEFER] += 1
+            continue
+        if max(nb - ncav - state[NFREE], 0) > state[END] - state[NEXT]:
+            pending[:] = 0
+            return k, 1
+        if not _fill(tets, dig, lane, ncav, nb, p):
+            _glue_large(R, dig, nb, vcell.shape[0] + 1, state[STAMP])
         counts[CONFLICTS] += ncav
         _commit(counts, pending)
         state[LAST] = p
         if timing:
             counts[LOCATE_CYCLES] += c_located - c_start
             counts[CAVITY_CYCLES] += cycle_counter() - c_located
-    return n, 0
+    return m, 0
 
 
 @njit(cache=True)
@@ -411,10 +478,11 @@ def _start(P, s, tets):
 
 
 @njit(cache=True)
-def _new_dig(size, n):
-    """Cavity scratch for ``size`` tetrahedra and boundary triangles."""
+def _new_dig(size, vid):
+    """Cavity scratch for ``size`` tetrahedra and boundary triangles, on
+    the shared local-number array ``vid`` (lanes number disjoint vertices)."""
     return Dig(np.empty(size, dtype=np.int32), np.empty((size, 4), dtype=np.int32),
-               np.empty((size, 3), dtype=np.int64), np.empty(n, dtype=np.int32),
+               np.empty((size, 3), dtype=np.int64), vid,
                np.empty(SMALL * SMALL, dtype=np.int32), np.empty(16 * size, dtype=np.int64),
                np.empty(16 * size, dtype=np.int64), np.zeros(16 * size, dtype=np.int64))
 
@@ -422,7 +490,7 @@ def _new_dig(size, n):
 @njit(cache=True)
 def _grown(tets, size):
     """The records at ``size`` tetrahedra (vcell is per point: kept)."""
-    R, mark, vcell, free = tets
+    R, mark, vcell = tets
     m = R.shape[0]
     R2 = np.empty((size, WIDTH), dtype=np.int32)
     mark2 = np.empty(size, dtype=np.int32)
@@ -430,53 +498,244 @@ def _grown(tets, size):
         for k in range(WIDTH):
             R2[c, k] = R[c, k]
         mark2[c] = mark[c]
-    return Tets(R2, mark2, vcell, np.concatenate((free, np.empty(size - m, dtype=np.int32))))
+    return Tets(R2, mark2, vcell)
 
 
-def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
-    """Insert the 3D points P[perm] one by one; returns a
-    kernel.Insertion whose N holds neighbour refs (4 t + i: decode with
-    ``>> 2``), as kernel.insert_all does for 2D points (its parameters)."""
+@njit(cache=True)
+def _run_alone(P, run, todo, tets, dig, lane, max_cells, timing):
+    """The one lane of a sequential insertion (its part: every vertex),
+    growing the records, its free list and the scratch when they are full:
+    returns (tets, dig, lane)."""
+    k = np.int64(0)
+    while True:
+        k, reason = _insert_lane(P, run, todo, k, tets, dig, lane, k, timing)
+        if reason == 0:
+            return tets, dig, lane
+        if reason == 1:
+            cap = tets.R.shape[0]
+            if cap >= max_cells:
+                raise ValueError("the triangulation needs more tetrahedra than int32 "
+                                 "facet refs can number")
+            size = min(2 * cap, max_cells)
+            tets = _grown(tets, size)
+            free = np.empty(size, dtype=np.int32)
+            free[:lane.free.shape[0]] = lane.free
+            lane.state[END] = size
+            lane = Lane(lane.state, free, lane.counts, lane.part, lane.deferred)
+        else:
+            dig = _new_dig(2 * dig.cav.shape[0], dig.vid)
+
+
+@njit(cache=True, nogil=True)
+def _run_beside(P, run, todo, tets, dig, lane, seed, timing):
+    """One of several lanes, on its own thread: a point that does not fit
+    the lane's records is deferred with the rest of its list.  Returns the
+    lane's scratch, grown if a cavity needed it."""
+    k = np.int64(0)
+    while True:
+        k, reason = _insert_lane(P, run, todo, k, tets, dig, lane, seed + k, timing)
+        if reason == 0:
+            return dig
+        if reason == 1:
+            for j in range(k, todo.shape[0]):
+                lane.deferred[lane.state[NDEFER]] = todo[j]
+                lane.state[NDEFER] += 1
+            return dig
+        dig = _new_dig(2 * dig.cav.shape[0], dig.vid)
+
+
+@njit(cache=True)
+def _split(perm, todo, owner, lanes):
+    """The lists of the lanes: todo's positions by their point's owner,
+    each in todo's order; returns (order, starts)."""
+    count = np.zeros(lanes + 1, dtype=np.int64)
+    for k in range(todo.shape[0]):
+        count[owner[perm[todo[k]]] + 1] += 1
+    starts = np.cumsum(count)
+    fill = starts[:-1].copy()
+    order = np.empty(todo.shape[0], dtype=todo.dtype)
+    for k in range(todo.shape[0]):
+        j = owner[perm[todo[k]]]
+        order[fill[j]] = todo[k]
+        fill[j] += 1
+    return order, starts
+
+
+@njit(cache=True)
+def _close_lane(tets, lane, free, nfree):
+    """After a parallel pass: the lane's unused fresh records and its free
+    list onto the shared free list (free[:nfree]); returns its new length."""
+    for c in range(lane.state[NEXT], lane.state[END]):
+        tets.mark[c] = DEAD
+        free[nfree] = c
+        nfree += 1
+    for j in range(lane.state[NFREE]):
+        free[nfree] = lane.free[j]
+        nfree += 1
+    return nfree
+
+
+@njit(cache=True)
+def _reset_marks(mark, m):
+    """Marks of live records back to 0, before the stamps would overflow."""
+    for c in range(m):
+        if mark[c] != DEAD:
+            mark[c] = 0
+
+
+@njit(cache=True)
+def _owners(P, axis, cuts, owner):
+    """owner[v]: the lane whose slab of coordinate ``axis`` holds point v,
+    lane j's slab [cuts[j], cuts[j + 1]) and the last lane's also below
+    cuts[0] (the second pass's slabs straddle the first's borders)."""
+    lanes = cuts.shape[0]
+    for v in range(P.shape[0]):
+        x = P[v, axis]
+        j = lanes - 1
+        for k in range(lanes - 1):
+            if cuts[k] <= x < cuts[k + 1]:
+                j = k
+        owner[v] = j
+
+
+def _slabs(P, perm, todo, lanes, shift):
+    """(axis, cuts): slabs across the longest side of todo's points'
+    bounding box holding equal shares of them, moved by ``shift`` of a
+    slab."""
+    pts = P[perm[todo]]
+    axis = int(np.argmax(pts.max(axis=0) - pts.min(axis=0)))
+    q = (np.arange(lanes) + shift) / lanes
+    cuts = np.quantile(pts[:, axis], q)
+    if shift == 0:
+        cuts[0] = -np.inf
+    return axis, cuts
+
+
+SEQUENTIAL = 1 << 14  # points inserted alone first: a coarse mesh leaves lanes little room
+# A lane's fresh records: LANE_RECORDS a point (3D Delaunay makes 6.7 on
+# average) and LANE_SLACK more; a lane that runs out defers its other points.
+LANE_RECORDS, LANE_SLACK = 8, 1024
+ROUND_FACTOR = 2  # each round takes the insertion order on to this multiple of its start
+STAMP_LIMIT = 2 ** 30  # marks are int32: stamps start over before they reach it
+
+
+def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False, threads=1):
+    """Insert the 3D points P[perm] one by one; returns a kernel.Insertion
+    whose N holds neighbour refs (4 t + i: decode with ``>> 2``), as
+    kernel.insert_all does for 2D points (its parameters).  ``threads``
+    above 1: after the first SEQUENTIAL points, rounds of the order in
+    lanes (_insert_lane), each in its own part of space, the points a lane
+    cannot take retried with the parts moved, and the rest alone at the
+    end."""
     n = P.shape[0]
     cap = min(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), max_cells)
     vcell = workspace.empty(n, np.int32)
     vcell.fill(-1)
     R = workspace.empty((cap, WIDTH), np.int32)
-    tets = Tets(R, workspace.empty(cap, np.int32), vcell, workspace.empty(cap, np.int32))
-    out = _insert_all(P, (perm, hint), span, tets, np.arange(n), max_cells, timing)
-    grown = out.R.__array_interface__["data"][0] != R.__array_interface__["data"][0]
-    return Insertion(out.R[:, :4], out.R[:, 4:], out.mark, out.ncells, out.dup_of, out.counts,
-                     out.ok, None if grown else R)
-
-
-@njit(cache=True, nogil=True)
-def _insert_all(P, order, span, tets, dup_of, max_cells, timing):
-    """insert_all's kernel, into ``tets`` (growing them when full), in
-    ``order`` = (perm, hint); dup_of starts as the identity."""
-    perm, hint = order
+    tets = Tets(R, workspace.empty(cap, np.int32), vcell)
     counts = np.zeros(N_INSERT, dtype=np.int64)
+    dup_of = np.arange(n)
     pick = _initial_simplex(P, 3, perm)
-    ok = pick[0] >= 0 and pick[3] >= 0
-    m = np.int64(0)
-    if ok:
-        s = np.empty(4, dtype=np.int64)
-        for k in range(4):
-            s[k] = perm[pick[k]]
-        state = np.array([_start(P, s, tets), 0, 0, s[0]], dtype=np.int64)
-        dig = _new_dig(np.int64(256), np.int64(P.shape[0]))
-        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, 3))
-        t = np.int64(0)
-        while True:
-            t, reason = _insert_range(P, run, t, tets, dig, timing)
-            if reason == 0:
-                break
-            if reason == 1:
-                cap = tets.R.shape[0]
-                if cap >= max_cells:
-                    raise ValueError("the triangulation needs more tetrahedra than int32 "
-                                     "facet refs can number")
-                tets = _grown(tets, min(2 * cap, max_cells))
-            else:
-                dig = _new_dig(2 * dig.cav.shape[0], np.int64(P.shape[0]))
-        m = state[NCELLS]
-    return Inserted(tets.R[:m], tets.mark[:m], m, dup_of, counts, ok)
+    if not (pick[0] >= 0 and pick[3] >= 0):
+        return Insertion(R[:0, :4], R[:0, 4:], tets.mark[:0], 0, dup_of, counts, False, R)
+    s = perm[pick].astype(np.int64)
+    first = _start(P, s, tets)
+    run = Run(perm, hint, pick, dup_of, span, statics(P, 3))
+    dig = _new_dig(np.int64(256), np.empty(n, dtype=np.int32))
+    alone = Lane(np.array([first, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
+                 workspace.empty(cap, np.int32), counts, (np.zeros(1, dtype=np.int16), np.int64(-1)),
+                 np.empty(0, dtype=np.int64))
+    rounds = _rounds(n, threads)
+    todo = np.arange(rounds[0][1], dtype=np.int64)
+    tets, dig, alone = _run_alone(P, run, todo, tets, dig, alone, max_cells, timing)
+    left = np.empty(0, dtype=np.int64)
+    for lo, hi in rounds[1:]:
+        todo = np.concatenate((left, np.arange(lo, hi, dtype=np.int64)))
+        for shift in (0.0, 0.5):
+            tets, alone, todo = _parallel_pass(P, run, todo, tets, alone, dig.vid, threads, shift,
+                                               timing)
+        left = todo
+    tets, dig, alone = _run_alone(P, run, left, tets, dig, alone, max_cells, timing)
+    m = alone.state[NEXT]
+    grown = tets.R.__array_interface__["data"][0] != R.__array_interface__["data"][0]
+    return Insertion(tets.R[:m, :4], tets.R[:m, 4:], tets.mark[:m], m, dup_of, counts, True,
+                     None if grown else R)
+
+
+def _rounds(n, threads):
+    """[(0, first)] then the rounds' ranges of positions in the order: all
+    of it alone for one thread."""
+    if threads <= 1 or n <= SEQUENTIAL:
+        return [(0, n)]
+    out = [(0, SEQUENTIAL)]
+    while out[-1][1] < n:
+        lo = out[-1][1]
+        out.append((lo, min(n, ROUND_FACTOR * lo)))
+    return out
+
+
+def _parallel_pass(P, run, todo, tets, alone, vid, threads, shift, timing):
+    """Insert todo's points in ``threads`` lanes, with parts of equal
+    shares of them moved by ``shift`` of a part; returns (tets, alone, the
+    points deferred, in order)."""
+    state = alone.state
+    if len(todo) == 0:
+        return tets, alone, todo
+    axis, cuts = _slabs(P, run.perm, todo, threads, shift)
+    owner = np.empty(P.shape[0], dtype=np.int16)
+    _owners(P, axis, cuts, owner)
+    order, starts = _split(run.perm, todo, owner, threads)
+    sizes = np.diff(starts)
+    # fresh records (LANE_RECORDS), less the shared free list's, dealt out evenly
+    nfree = int(state[NFREE])
+    shares = [nfree * k // threads for k in range(threads + 1)]
+    fresh = [max(0, LANE_RECORDS * int(sizes[k]) + LANE_SLACK - (shares[k + 1] - shares[k]))
+             for k in range(threads)]
+    need = int(state[NEXT]) + sum(fresh)
+    if need > tets.R.shape[0]:
+        size = min(max(2 * tets.R.shape[0], need), MAX_CELLS)
+        if need > size:
+            raise ValueError("the triangulation needs more tetrahedra than int32 facet refs "
+                             "can number")
+        tets = _grown(tets, size)
+        free = np.empty(size, dtype=np.int32)
+        free[:len(alone.free)] = alone.free
+        state[END] = size
+        alone = Lane(state, free, alone.counts, alone.part, alone.deferred)
+    if state[STAMP] + 2 * threads * (len(todo) + 2) >= STAMP_LIMIT:
+        _reset_marks(tets.mark, int(state[NEXT]))
+        state[STAMP] = 0
+    lanes = []
+    start = int(state[NEXT])
+    for k in range(threads):
+        own = alone.free[shares[k]:shares[k + 1]]
+        free = np.empty(len(own) + 2 * int(sizes[k]) + LANE_SLACK, dtype=np.int32)
+        free[:len(own)] = own
+        lane_state = np.array([start, start + fresh[k], len(own), state[STAMP] + 2 * k,
+                               2 * threads, state[LAST], 0], dtype=np.int64)
+        start += fresh[k]
+        part = (owner, np.int64(k))
+        lanes.append(Lane(lane_state, free, np.zeros(N_INSERT, dtype=np.int64), part,
+                          np.empty(int(sizes[k]), dtype=np.int64)))
+    state[NEXT] = start
+    state[NFREE] = 0
+
+    def job(k):
+        # each lane its own scratch, around the shared local numbers (its
+        # vertices are its own)
+        mine = order[starts[k]:starts[k + 1]]
+        return _run_beside(P, run, mine, tets, _new_dig(np.int64(256), vid), lanes[k],
+                           np.int64(k), timing)
+
+    Workers(threads).each(job, range(threads))
+    nfree = 0
+    deferred = []
+    for lane in lanes:
+        nfree = _close_lane(tets, lane, alone.free, nfree)
+        alone.counts[:] += lane.counts
+        deferred.append(lane.deferred[:lane.state[NDEFER]])
+        state[STAMP] = max(state[STAMP], lane.state[STAMP])
+    state[NFREE] = nfree
+    state[STAMP] += 2
+    left = np.sort(np.concatenate(deferred))
+    return tets, alone, left
