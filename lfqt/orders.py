@@ -42,6 +42,7 @@ from .indexing import random_index, range_seed, u
 from .morton import ordered_bits64
 from .radix import radix_sort_range
 from .triangulation import IndexArray
+from .workers import Workers
 
 OrderName = Literal["kdtree", "kdtree-alternate", "hilbert", "hilbert-grid", "brio", "random",
                     "input"]
@@ -430,16 +431,16 @@ def _presorted_subtree(X, ids, lo0, hi0, depth0, alternate, ws):
 
 
 @njit(cache=True, nogil=True)
-def _kdtree_inorder(X, ids, alternate, presorted):
-    """Every selection of the Kd-tree on rows of X (kept in step with ids),
-    depth first: each node's rows [lo, hi) split at their median
-    lo + (hi - lo) // 2 along its axis, and then its children's.  The
-    tree's shape follows from n alone, so the order of the selections is
-    free: depth first, a node's rows are still in cache for its children,
-    and a subtree of at most ``presorted`` points is built whole from its
-    points sorted along every axis (_presorted_subtree; 0: every node by
-    selection).  A stack of pending nodes never holds more than the depth
-    + 1."""
+def _kdtree_inorder(X, ids, alternate, presorted, root):
+    """Every selection of the Kd-tree on rows of X (kept in step with ids)
+    in the subtree root = (lo, hi, depth), depth first: each node's rows
+    [lo, hi) split at their median lo + (hi - lo) // 2 along its axis, and
+    then its children's.  The tree's shape follows from n alone, so the
+    order of the selections is free: depth first, a node's rows are still
+    in cache for its children, and a subtree of at most ``presorted``
+    points is built whole from its points sorted along every axis
+    (_presorted_subtree; 0: every node by selection).  A stack of pending
+    nodes never holds more than the depth + 1."""
     n, d = X.shape
     off = np.empty(2 * _BLOCK, dtype=np.int64)
     ws = _presorted_arrays(min(presorted, n), d, ids.dtype)
@@ -447,8 +448,8 @@ def _kdtree_inorder(X, ids, alternate, presorted):
     s_hi = np.empty(66, dtype=np.int64)
     s_depth = np.empty(66, dtype=np.int64)
     top = 0
-    if n > 1:
-        s_lo[0], s_hi[0], s_depth[0] = 0, n, 0
+    if root[1] - root[0] > 1:
+        s_lo[0], s_hi[0], s_depth[0] = root
         top = 1
     while top > 0:
         top -= 1
@@ -467,8 +468,30 @@ def _kdtree_inorder(X, ids, alternate, presorted):
             top += 1
 
 
+@njit(cache=True)
+def _kdtree_top(X, ids, alternate, count, smallest):
+    """The selections of the Kd-tree's top levels, breadth first, until
+    there are ``count`` subtrees below them or one has ``smallest`` rows
+    or fewer: returns the subtrees' (lo, hi, depth) rows, which
+    _kdtree_inorder builds apart."""
+    d = X.shape[1]
+    off = np.empty(2 * _BLOCK, dtype=np.int64)
+    nodes = [(np.int64(0), np.int64(X.shape[0]), np.int64(0))]
+    while len(nodes) < count and nodes[0][1] - nodes[0][0] > smallest:
+        lo, hi, depth = nodes.pop(0)
+        axis = depth % d if alternate else _longest_axis(X, lo, hi)
+        m = lo + (hi - lo) // 2
+        _select_axis(X, ids, lo, hi, m, axis, off)
+        nodes.append((lo, m, depth + 1))
+        nodes.append((m + 1, hi, depth + 1))
+    out = np.empty((len(nodes), 3), dtype=np.int64)
+    for k in range(len(nodes)):
+        out[k, 0], out[k, 1], out[k, 2] = nodes[k]
+    return out
+
+
 def kdtree_order(P: npt.NDArray[np.float64], alternate: bool, sibling: bool,
-                 presorted: int = PRESORTED) -> Layout:
+                 presorted: int = PRESORTED, threads: int = 1) -> Layout:
     """(perm, hint, inorder, P[inorder]): the breadth-first labels and
     their hints, the ids as _kdtree_inorder leaves them, the tree's
     in-order: every subtree a contiguous range with its median in the
@@ -481,18 +504,24 @@ def kdtree_order(P: npt.NDArray[np.float64], alternate: bool, sibling: bool,
     the arrays (it asks for huge pages for large ones itself; lfqt.pages
     measured no faster here).  ``presorted``: the size of the subtrees built
     from sorted lists (_kdtree_inorder); the tree is the same whatever it
-    is."""
+    is.  ``threads``: the subtrees below the top levels are built on that
+    many threads (_kdtree_top); the tree is the same."""
     n = len(P)
     ids, X = np.arange(n, dtype=index_dtype(n)), P.copy()
     perm, hint, q_lo, q_hi = (np.empty(n, dtype=np.int64) for _ in range(4))
-    _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling, presorted)
+    if threads > 1 and n > 4 * max(presorted, 1):
+        roots = _kdtree_top(X, ids, alternate, 4 * threads, 2 * max(presorted, 1))
+        Workers(threads).each(lambda r: _kdtree_inorder(X, ids, alternate, presorted, r),
+                              [tuple(int(v) for v in row) for row in roots])
+    else:
+        _kdtree_inorder(X, ids, alternate, presorted, (0, n, 0))
+    _kdtree_order(X, ids, perm, hint, q_lo, q_hi, sibling)
     return perm, hint, ids, X
 
 
 @njit(cache=True, nogil=True)
-def _kdtree_order(X, ids, perm, hint, q_lo, q_hi, alternate, sibling, presorted):
+def _kdtree_order(X, ids, perm, hint, q_lo, q_hi, sibling):
     n = X.shape[0]
-    _kdtree_inorder(X, ids, alternate, presorted)
     # Breadth-first queue of ranges; a node's label is its queue slot.  Its
     # point, and its left sibling's, are medians of known ranges of the
     # in-order, so a child's hint is written when it is queued.
@@ -749,7 +778,7 @@ def order(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "pa
 
 
 def layout(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "parent",
-           seed: int = 0) -> Layout:
+           seed: int = 0, threads: int = 1) -> Layout:
     """(perm, hint, store, stored): ``order``'s pair, ``store``, a
     permutation of the points along space to lay them out in memory by (the
     Kd-tree's in-order, the Hilbert order itself, or a coarse Hilbert sort),
@@ -778,7 +807,7 @@ def layout(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "p
     (dtype('int32'), True)
     """
     P = np.ascontiguousarray(points, dtype=np.float64)  # once: _order's is then free
-    perm, h, store, stored = _order(P, name, hint, seed)
+    perm, h, store, stored = _order(P, name, hint, seed, threads)
     if store is None:
         # Cells of 2^-16 (2D) or 2^-10 (3D) of the bounding box are fine
         # enough for locality, and cheaper to index than 31/21 bits.
@@ -790,7 +819,7 @@ def layout(points: npt.ArrayLike, name: OrderName = "kdtree", *, hint: Hint = "p
     return perm, h, store.astype(index_dtype(len(P)), copy=False), stored
 
 
-def _order(points, name, hint, seed):
+def _order(points, name, hint, seed, threads=1):
     """(perm, hint, store, stored), the last two None when the order does
     not give them for free (layout)."""
     P = np.ascontiguousarray(points, dtype=np.float64)
@@ -802,7 +831,7 @@ def _order(points, name, hint, seed):
     if hint not in ("parent", "sibling"):
         raise ValueError("hint must be 'parent' or 'sibling'")
     if name in ("kdtree", "kdtree-alternate"):
-        return kdtree_order(P, name == "kdtree-alternate", hint == "sibling")
+        return kdtree_order(P, name == "kdtree-alternate", hint == "sibling", threads=threads)
     rng = np.random.default_rng(seed)
     store = None
     if name == "input":

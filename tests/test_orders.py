@@ -75,6 +75,9 @@ def test_presorted_subtrees_build_the_tree_that_selection_builds(kind, alternate
            "one point": np.full((n, d), 0.5),
            "line": np.c_[rng.random(n), np.zeros((n, d - 1))]}[kind]
     trees = [orders.kdtree_order(pts, alternate, False, presorted=k) for k in (0, 2, 3, 64, n)]
+    # on threads: the top levels first, the subtrees below them apart
+    trees += [orders.kdtree_order(pts, alternate, False, presorted=k, threads=t)
+              for k, t in ((2, 2), (64, 3), (3, 7))]
     for perm, hint, ids, X in trees[1:]:
         assert np.array_equal(perm, trees[0][0]) and np.array_equal(hint, trees[0][1])
         assert np.array_equal(ids, trees[0][2]) and np.array_equal(X, pts[ids])

@@ -14,6 +14,7 @@ from .._input import exact_points, index_dtype
 from ..clock import cycles_per_second
 from ..predicates.counters import DUPLICATES, NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
 from ..triangulation import Triangulation
+from ..workers import Workers
 from . import kernel, tetra
 
 # the walk counts its orientation tests, not their stages
@@ -100,13 +101,14 @@ def insert(points: npt.ArrayLike, *,
     True
     """
     t0 = time.perf_counter()
+    threads = _threads(threads)
     P, s, largest = exact_points(points, (2, 3), copy=False)  # P is only read
     n, d = P.shape
     if n > MAX_POINTS:
         raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
                          f"got {n}; lfqt.triangulate has no such limit in 2D")
     t1 = time.perf_counter()
-    perm, hints, order_name, store, stored = _order(P, order, hint, seed)
+    perm, hints, order_name, store, stored = _order(P, order, hint, seed, threads)
     t2 = time.perf_counter()
     span = kernel.coordinate_span(P, largest)
     # Store the points along space (orders.layout): vertex ids then follow
@@ -116,7 +118,7 @@ def insert(points: npt.ArrayLike, *,
     kernel.relabel(perm, hints, store)  # perm and hints are ours (_order)
     if d == 3:
         insertion = tetra.insert_all(stored, perm, hints, span, timing=phase_times,
-                                     threads=_threads(threads))
+                                     threads=threads)
     else:
         insertion = kernel.insert_all(stored, d, perm, hints, span, timing=phase_times)
     C, N, mark, ncells, dup_rank, cnt, ok, records = insertion
@@ -125,8 +127,10 @@ def insert(points: npt.ArrayLike, *,
     t3 = time.perf_counter()
     degenerate, reason = False, ""
     if ok:
+        workers = Workers(threads) if d == 3 and threads > 1 else None
         simplices, neighbors, facets = kernel.finite_cells(C, N, mark, store, records,
-                                                           shift=2 if d == 3 else 0)
+                                                           shift=2 if d == 3 else 0,
+                                                           workers=workers)
         del C, N, mark, records  # the simplices now stand where the cells were
         hull = _chain_hull(facets) if d == 2 else facets.astype(index_dtype(n))
         if duplicates:
@@ -175,7 +179,7 @@ def _threads(threads):
     return int(threads)
 
 
-def _order(P, order, hint, seed):
+def _order(P, order, hint, seed, threads):
     """The Order of the insertion order and the points' layout in memory
     (lfqt.orders.layout)."""
     n = len(P)
@@ -186,7 +190,8 @@ def _order(P, order, hint, seed):
             raise ValueError("an explicit order must be (perm, hint) with perm a permutation of "
                              "range(n) and one hint per point, a point index or -1")
         return Order(perm, hints, "explicit", *orders.layout(P, "input")[2:])
-    perm, hints, store, stored = orders.layout(P, order, hint=hint or "parent", seed=seed)
+    perm, hints, store, stored = orders.layout(P, order, hint=hint or "parent", seed=seed,
+                                               threads=threads if P.shape[1] == 3 else 1)
     # "hilbert" is its own layout: store is perm itself where layout keeps it
     # int64 (2**31 points or more), a copy in int32 below
     if np.shares_memory(perm, store):

@@ -700,7 +700,7 @@ def _insert_all(P, d, order, span, cells, dup_of, max_cells, timing):
     return Inserted(cells.C[:m], cells.N[:m], cells.mark[:m], m, dup_of, counts, ok)
 
 
-def finite_cells(C, N, mark, ids, records=None, shift=0):
+def finite_cells(C, N, mark, ids, records=None, shift=0, workers=None):
     """(simplices, neighbors, facets) of the live cells (``mark`` not
     DEAD): the finite ones with vertices mapped through ``ids``, neighbours
     renumbered, -1 across the hull, and the hull's facets, oriented
@@ -719,7 +719,15 @@ def finite_cells(C, N, mark, ids, records=None, shift=0):
 
         records    | cell 0        | cell 1        | cell 2        | ...
         simplices  | 0   | 1   | 2   | ...   (1M points, 3D: 104 MB not faulted in)
+
+    ``shift``: the neighbour of a cell is ``N >> shift`` (3D records hold
+    facet refs, 4 t + i).  ``workers`` (lfqt.workers.Workers of more than
+    one thread): both passes by ranges of cells on its threads, the
+    simplices beside the records, since a range's rows would land on
+    records another range has still to read.
     """
+    if workers is not None and workers.threads > 1:
+        return _finite_cells_parallel(C, N, mark, ids, shift, workers)
     bits, first, finite, live = _finite_bitmap(C, mark)
     width = C.shape[1]
     neighbors = workspace.empty((finite, width), np.int32)
@@ -762,6 +770,76 @@ def _finite_bitmap(C, mark):
         first[u(w)] = k
         k += popcount(word)
     return bits, first, k, live
+
+
+def _finite_cells_parallel(C, N, mark, ids, shift, workers):
+    """finite_cells on the workers' threads (see there)."""
+    m, width = C.shape
+    nwords = (m + 63) >> 6
+    bits = np.empty(nwords, dtype=np.uint64)
+    first = np.empty(nwords, dtype=np.int64)
+    chunks = workers.chunks(nwords, 1 << 12)
+    counts = workers.map(chunks, lambda k, lo, hi: _bitmap_words(C, mark, bits, first, lo, hi))
+    finite = sum(f for f, _ in counts)
+    live = sum(v for _, v in counts)
+    starts = np.cumsum([(0, 0)] + [list(c) for c in counts], axis=0)  # (finite, live) before
+    neighbors = workspace.empty((finite, width), np.int32, populate=workers)
+    simplices = workspace.empty((finite, width), np.int32, populate=workers)
+    facets = np.empty((live - finite, width - 1), dtype=np.int64)
+    out = (simplices, neighbors, facets)
+    # every word's first is final before any range ranks a neighbour in it
+    for k, (lo, hi) in enumerate(chunks):
+        first[lo:hi] += int(starts[k][0])
+    workers.map(chunks, lambda k, lo, hi: _cells_rows(
+        C, N, mark, ids, bits, first, out, shift,
+        (64 * lo, min(64 * hi, m), int(starts[k][0]), int(starts[k][1] - starts[k][0]))))
+    return simplices, neighbors, facets
+
+
+@njit(cache=True, nogil=True)
+def _bitmap_words(C, mark, bits, first, lo, hi):
+    """_finite_bitmap over the words [lo, hi): their bits, each word's
+    finite cells before it counted from lo; returns (finite, live) there."""
+    m = C.shape[0]
+    width = C.shape[1]
+    k = 0
+    live = 0
+    for w in range(lo, hi):
+        word = np.uint64(0)
+        for c in range(64 * w, min(64 * w + 64, m)):
+            alive = np.int64(mark[u(c)] != DEAD)
+            vertices = C[u(c), 0] | C[u(c), 1] | C[u(c), 2]
+            if width == 4:
+                vertices |= C[u(c), 3]
+            live += alive
+            word |= np.uint64(alive & np.int64(vertices >= 0)) << np.uint64(c & 63)
+        bits[u(w)] = word
+        first[u(w)] = k
+        k += popcount(word)
+    return k, live
+
+
+@njit(cache=True, nogil=True)
+def _cells_rows(C, N, mark, ids, bits, first, out, shift, span):
+    """_finite_cells over the cells span = (lo, hi, first row, first hull
+    facet)."""
+    simplices, neighbors, facets = out
+    lo, hi, j, n_inf = span
+    width = C.shape[1]
+    for c in range(lo, hi):
+        ahead = min(c + OUTPUT_AHEAD, hi - 1)
+        prefetch(ids, np.int64(C[u(ahead), 0]))
+        prefetch(ids, np.int64(C[u(ahead), 1]))
+        if not bit(bits, c):
+            if mark[u(c)] != DEAD:
+                _hull_facet(C, c, ids, facets, n_inf)
+                n_inf += 1
+            continue
+        for i in range(width):
+            simplices[u(j), u(i)] = ids[u(C[u(c), u(i)])]
+            nb = N[u(c), u(i)] >> shift
+            neighbors[u(j), u(i)] = rank(bits, first, nb) if bit(bits, nb) else -1
+        j += 1
 
 
 # Cells come in the order they were made, which follows the insertion order

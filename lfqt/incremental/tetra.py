@@ -266,7 +266,6 @@ def _fill(tets, dig, lane, ncav, nb, p):
         for k in range(3):
             v = tri[u(b), u(k)]
             if v >= 0:
-                vcell[u(v)] = w
                 vid[u(v)] = -1
         vcell[u(p)] = w
     state = lane.state
@@ -275,7 +274,9 @@ def _fill(tets, dig, lane, ncav, nb, p):
         if state[NFREE] < lane.free.shape[0]:  # else the record is lost until the end
             lane.free[u(state[NFREE])] = cav[u(b)]
             state[NFREE] += 1
-    # local numbers: INF is 0, the others 1, 2, ... in order of appearance
+    # local numbers: INF is 0, the others 1, 2, ... in order of appearance;
+    # a boundary vertex's old tetrahedra may be gone: its first new one
+    # becomes its vcell
     count = 1
     for b in range(nb):
         for k in range(3):
@@ -285,6 +286,7 @@ def _fill(tets, dig, lane, ncav, nb, p):
             else:
                 if vid[u(v)] < 0:
                     vid[u(v)] = count
+                    vcell[u(v)] = tri[u(b), 3]
                     count += 1
                 loc[u(b), u(k)] = vid[u(v)]
     if count > SMALL:
