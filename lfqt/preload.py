@@ -9,7 +9,7 @@ reads or makes its points; in that time a thread started by ``import lfqt``
 (``start``) loads the registries and the divide and conquer's kernels, by
 running it on one and on two threads on a set just large enough to take
 every path of a large call (two chunks of ``lfqt.workers.MIN_CHUNK``), and
-on float32 points.
+on float32 points; then 3D insertion's, alone and in lanes (_load_3d).
 
 A call that comes before the thread is done waits for numba's compiler lock
 while the thread loads a kernel, no longer than it would have taken to load
@@ -51,9 +51,25 @@ def _load():
         triangulate(pts[:64])  # the default, one thread, first
         triangulate(pts, threads=2)
         triangulate(pts[:64].astype(np.float32))
+        _load_3d()
         workspace.release()  # the preload leaves no idle memory behind
     except Exception:  # noqa: BLE001 - best effort: the first call loads whatever is missing
         pass
+
+
+def _load_3d():
+    """3D insertion's kernels, on one thread and on two, on a set far
+    smaller than the sizes at which a call takes those paths: the lanes
+    after 64 points alone, the Kd order's subtrees past 2-point leaves."""
+    from . import insert, orders
+    from .incremental import kernel, tetra
+    from .workers import Workers
+    p = np.random.default_rng(0).random((600, 3))
+    insert(p[:64])
+    perm, hint, store, stored = orders.kdtree_order(p, False, False, presorted=2, threads=2)
+    kernel.relabel(perm, hint, store)
+    run = tetra.insert_all(stored, perm, hint, 1.0, threads=2, first=64)
+    kernel.finite_cells(run.C, run.N, run.mark, store, shift=2, workers=Workers(2))
 
 
 os.register_at_fork(before=wait)

@@ -621,14 +621,16 @@ ROUND_FACTOR = 2  # each round takes the insertion order on to this multiple of 
 STAMP_LIMIT = 2 ** 30  # marks are int32: stamps start over before they reach it
 
 
-def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False, threads=1):
+def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False, threads=1,
+               first=None):
     """Insert the 3D points P[perm] one by one; returns a kernel.Insertion
     whose N holds neighbour refs (4 t + i: decode with ``>> 2``), as
     kernel.insert_all does for 2D points (its parameters).  ``threads``
     above 1: after the first SEQUENTIAL points, rounds of the order in
     lanes (_insert_lane), each in its own part of space, the points a lane
     cannot take retried with the parts moved, and the rest alone at the
-    end."""
+    end.  ``first``: the points inserted alone first (SEQUENTIAL by
+    default)."""
     n = P.shape[0]
     cap = min(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), max_cells)
     vcell = workspace.empty(n, np.int32)
@@ -641,13 +643,13 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
     if not (pick[0] >= 0 and pick[3] >= 0):
         return Insertion(R[:0, :4], R[:0, 4:], tets.mark[:0], 0, dup_of, counts, False, R)
     s = perm[pick].astype(np.int64)
-    first = _start(P, s, tets)
+    used = _start(P, s, tets)
     run = Run(perm, hint, pick, dup_of, span, statics(P, 3))
     dig = _new_dig(np.int64(256), np.empty(n, dtype=np.int32))
-    alone = Lane(np.array([first, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
+    alone = Lane(np.array([used, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
                  workspace.empty(cap, np.int32), counts, (np.zeros(1, dtype=np.int16), np.int64(-1)),
                  np.empty(0, dtype=np.int64))
-    rounds = _rounds(n, threads)
+    rounds = _rounds(n, threads, SEQUENTIAL if first is None else first)
     todo = np.arange(rounds[0][1], dtype=np.int64)
     tets, dig, alone = _run_alone(P, run, todo, tets, dig, alone, max_cells, timing)
     left = np.empty(0, dtype=np.int64)
@@ -664,12 +666,12 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
                      None if grown else R)
 
 
-def _rounds(n, threads):
-    """[(0, first)] then the rounds' ranges of positions in the order: all
+def _rounds(n, threads, alone):
+    """[(0, alone)] then the rounds' ranges of positions in the order: all
     of it alone for one thread."""
-    if threads <= 1 or n <= SEQUENTIAL:
+    if threads <= 1 or n <= alone:
         return [(0, n)]
-    out = [(0, SEQUENTIAL)]
+    out = [(0, max(alone, 1))]
     while out[-1][1] < n:
         lo = out[-1][1]
         out.append((lo, min(n, ROUND_FACTOR * lo)))
