@@ -1,6 +1,8 @@
 """Our peers: lfqt's divide and conquer (and its alternating-cuts ablation),
-lfqt's incremental insertion in every order of lfqt.orders, and lfqt's
-radix sort alone (paper 1's sort claim)."""
+lfqt's incremental insertion in every order of lfqt.orders, lfqt's scipy
+drop-in ``lfqt.Delaunay``, and lfqt's radix sort alone (paper 1's sort
+claim)."""
+import inspect
 import time
 
 import numpy as np
@@ -103,29 +105,73 @@ class LfqtDC(_Ours):
         return _result(self.tri)
 
 
-class LfqtInsert(_Ours):
-    """lfqt.insert in a given order; the order is built inside the timed run,
-    as paper 2's times include it."""
+def insert_takes_threads():
+    """Whether ``lfqt.insert`` takes ``threads=`` (issue 52 adds it): the
+    insertion peers offer the option, and pass it on, only then."""
+    return "threads" in inspect.signature(lfqt.insert).parameters
+
+
+class _Inserting(_Ours):
+    """A peer of ours built on lfqt.insert: threads when insert takes them."""
     dims = (2, 3)
     bytes_per_point = 1200
+
+    @property
+    def options(self):
+        return ("threads",) if insert_takes_threads() else ()
+
+    def _threads(self):
+        """insert's threads keyword, when it has one."""
+        return {"threads": self.threads} if insert_takes_threads() else {}
+
+
+class LfqtInsert(_Inserting):
+    """lfqt.insert in a given order; the order is built inside the timed run,
+    as paper 2's times include it."""
 
     def __init__(self, order):
         self.order = order
         self.name = f"lfqt-insert-{order}"
         self.dim = 3
+        self.threads = 1
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.dim = self.points.shape[1]
         self.tri = None
-        _warmed(self, lambda: lfqt.insert(self.points[:64], order=self.order))  # JIT warm-up
+        _warmed(self, lambda: lfqt.insert(self.points[:64], order=self.order,
+                                          **self._threads()))  # JIT warm-up
 
     def run(self):
         self.tri = None
-        self.tri = lfqt.insert(self.points, order=self.order)
+        self.tri = lfqt.insert(self.points, order=self.order, **self._threads())
 
     def result(self):
         return _result(self.tri)
+
+
+class LfqtDelaunay(_Inserting):
+    """``lfqt.Delaunay``, the scipy drop-in, as a scipy user calls it (in 3D
+    it runs lfqt.insert in Kd order); threads passed on when insert takes
+    them."""
+
+    def __init__(self):
+        self.name = "lfqt-delaunay"
+        self.dim = 3
+        self.threads = 1
+
+    def prepare(self, points, order=None, count=False):
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.dim = self.points.shape[1]
+        self.tri = None
+        _warmed(self, lambda: lfqt.Delaunay(self.points[:64], **self._threads()))
+
+    def run(self):
+        self.tri = None
+        self.tri = lfqt.Delaunay(self.points, **self._threads())
+
+    def result(self):
+        return _result(self.tri.triangulation)
 
 
 class LfqtRadixSort(_Ours):
@@ -200,3 +246,4 @@ PEERS.update({f"lfqt-hybrid-{k}": (lambda k: lambda: LfqtDC(leaf_size=k))(k) for
 PEERS["lfqt-radix"] = LfqtRadixSort
 PEERS.update({f"lfqt-order-{o}": (lambda o: lambda: LfqtOrder(o))(o) for o in ORDERS})
 PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})
+PEERS["lfqt-delaunay"] = LfqtDelaunay
