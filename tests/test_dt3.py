@@ -35,6 +35,10 @@ def test_the_grid_times_every_3d_peer_on_its_thread_counts_and_judges_every_hard
         "grid-3d", "cospherical", "subnormal-3d", "huge-3d"}
     assert {(p, d) for p, d, _ in hard} == {(p, d) for p in dt3.PEERS for d in dt3.HARD_SETS}
     assert ("gmsh-hxt", "grid-3d", 2) in hard
+    # every hard-set mesh is judged, a timed one up to CHECK_MAX_N
+    assert all(dt3.judged(c) for c in cells if c.distribution in dt3.HARD_SETS)
+    assert {c.n for c in cells if dt3.judged(c) and c.distribution == dt3.TIME_SET} == {
+        n for n in dt3.SIZES["default"] if n <= dt3.CHECK_MAX_N} == {100_000}
     # a peer's known hang is skipped below the paper scale, with its reason
     hung = Cell("gmsh-hxt", "huge-3d", 8_000)
     assert dt3.known_failure("default", hung).startswith("known hang")
@@ -151,3 +155,16 @@ def test_tables_say_refused_crashed_and_hung():
     table = "\n".join(dt3.exactness_table(df))
     assert "| tetgen | 1 | refused (RuntimeError) |" in table
     assert "| gmsh-default | 1 | crashed |" in table and "| gmsh-hxt | 1 | hung |" in table
+
+
+def test_a_timed_cell_past_the_checked_sizes_shows_its_time_unmarked():
+    def rows(peer, seconds, check):
+        return [dict(peer=peer, distribution=dt3.TIME_SET, n=1_000_000, threads=1, count=False,
+                     status="ok", detail="", seconds=seconds, check=check, round=0,
+                     bytes_per_point=None, counts={}, regime="loop")]
+    df = pd.DataFrame(rows("lfqt-insert-kdtree", 2.0, {}) + rows("tetgen", 4.0, {})
+                      + rows("gmsh-default", 8.0, WRONG))
+    assert dt3.cells_of(df)[("tetgen", dt3.TIME_SET, 1_000_000, 1)][3:] == ("unchecked", "")
+    table = "\n".join(dt3.timing_table(df))
+    assert "| tetgen | 1 | 4 s (2.00x) |" in table
+    assert "| gmsh-default | 1 | 8 s (4.00x), **wrong: 9,085 flat tetrahedra** |" in table
