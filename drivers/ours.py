@@ -164,7 +164,10 @@ class LfqtDelaunay(_Inserting):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.dim = self.points.shape[1]
         self.tri = None
-        _warmed(self, lambda: lfqt.Delaunay(self.points[:64], **self._threads()))
+        # on points of its own: the input's first rows may be coplanar (a sorted
+        # grid's are), where Delaunay raises and insert returns a flagged mesh
+        warm = np.random.default_rng(0).random((64, self.dim))
+        _warmed(self, lambda: lfqt.Delaunay(warm, **self._threads()))
 
     def run(self):
         self.tri = None

@@ -149,3 +149,9 @@ def test_judge_in_3d_counts_flat_tetrahedra():
     flat = [[0, 1, 2, 5]]
     check = judge(pts, np.r_[lfqt.insert(pts).simplices, flat])
     assert check["verdict"] == "wrong" and check["flat"] == 1
+
+
+def test_lfqt_delaunay_takes_a_set_whose_first_rows_are_coplanar():
+    pts = generators.make("grid-3d-sorted", 1000)  # its first 100 rows lie in one plane
+    m = isolated("lfqt-delaunay", pts)
+    assert m.check["verdict"] == "exact"
