@@ -248,7 +248,8 @@ def _plot(df, out, regime):
     ax.set_xlabel("points (uniform in the unit cube)")
     ax.set_ylabel("microseconds per point (median)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, ncol=2)
+    if timed:
+        ax.legend(fontsize=7, ncol=2)
     ax.set_title("3D Delaunay: lfqt against every 3D peer, same input, same run\n"
                  f"{regime} regime: {REGIME_TEXT[regime]}", fontsize=10)
     fig.tight_layout()
