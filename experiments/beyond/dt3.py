@@ -349,7 +349,7 @@ EXPERIMENT = Experiment("dt3", "3D Delaunay: lfqt's insertion and Delaunay again
                         "timed on 1 and 2 threads and checked exactly on the hard 3D sets",
                         grid, plot, repeats=3, known_failure=known_failure, check=judged,
                         timeouts=TIMEOUTS, tables=report_lines, regimes=REGIMES,
-                        default_regimes=REGIMES, claims=CLAIMS, minutes={"default": 15},
+                        default_regimes=REGIMES, claims=CLAIMS, minutes={"default": 30},
                         loop_only=lambda cell: cell.distribution in HARD_SETS)
 main = EXPERIMENT.main
 
