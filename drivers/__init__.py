@@ -42,10 +42,12 @@ def names(dim=None):
 def known_failure(name, distribution, n):
     """Why peer ``name`` is known not to finish ``n`` points of
     ``distribution`` within a cell's limit (its family module's
-    ``known_failure``), or None."""
+    ``known_failure``, else the peer's own), or None."""
     for fam in FAMILIES:
         if name in fam.PEERS:
-            return fam.known_failure(distribution, n) if hasattr(fam, "known_failure") else None
+            if hasattr(fam, "known_failure"):
+                return fam.known_failure(distribution, n)
+            return make(name).known_failure(distribution, n)
     raise ValueError(f"unknown peer {name!r}; known: {', '.join(REGISTRY)}")
 
 

@@ -61,6 +61,12 @@ class Peer:
         self.threads = threads
         return self
 
+    def known_failure(self, distribution, n):
+        """Why this peer is known not to finish ``n`` points of
+        ``distribution`` within a cell's limit, or None (where the family
+        module's ``known_failure`` does not say it for all its peers)."""
+        return None
+
     def estimated_bytes(self, n):
         return n * self.bytes_per_point
 

@@ -1,6 +1,7 @@
 """Our peers: lfqt's divide and conquer (and its alternating-cuts ablation),
-lfqt's incremental insertion in every order of lfqt.orders, and lfqt's
-radix sort alone (paper 1's sort claim)."""
+lfqt's incremental insertion in every order of lfqt.orders, lfqt's scipy
+drop-in ``lfqt.Delaunay``, and lfqt's radix sort alone (paper 1's sort
+claim)."""
 import time
 
 import numpy as np
@@ -103,27 +104,37 @@ class LfqtDC(_Ours):
         return _result(self.tri)
 
 
-class LfqtInsert(_Ours):
-    """lfqt.insert in a given order; the order is built inside the timed run,
-    as paper 2's times include it.  On threads in 3D (2D ignores them)."""
+class _Inserting(_Ours):
+    """A peer of ours built on lfqt.insert, on threads in 3D (2D ignores
+    them)."""
     dims = (2, 3)
     bytes_per_point = 1200
     options = ("threads",)
+
+    def _warm_points(self, points):
+        """The warm-up's points: on threads, past the points inserted alone,
+        so that the lanes' kernels are loaded too."""
+        if self.threads == 1:
+            return points[:64]
+        return points[:2 * lfqt.incremental.tetra.SEQUENTIAL]
+
+
+class LfqtInsert(_Inserting):
+    """lfqt.insert in a given order; the order is built inside the timed run,
+    as paper 2's times include it."""
 
     def __init__(self, order):
         self.order = order
         self.name = f"lfqt-insert-{order}"
         self.dim = 3
+        self.threads = 1
 
     def prepare(self, points, order=None, count=False):
         self.points = np.ascontiguousarray(points, dtype=np.float64)
         self.dim = self.points.shape[1]
         self.tri = None
-        # JIT warm-up; on threads past the points inserted alone, so that
-        # the lanes' kernels are loaded too
-        warm = 64 if self.threads == 1 else 2 * lfqt.incremental.tetra.SEQUENTIAL
-        _warmed(self, lambda: lfqt.insert(self.points[:warm], order=self.order,
-                                          threads=self.threads))
+        warm = self._warm_points(self.points)
+        _warmed(self, lambda: lfqt.insert(warm, order=self.order, threads=self.threads))
 
     def run(self):
         self.tri = None
@@ -131,6 +142,33 @@ class LfqtInsert(_Ours):
 
     def result(self):
         return _result(self.tri)
+
+
+class LfqtDelaunay(_Inserting):
+    """``lfqt.Delaunay``, the scipy drop-in, as a scipy user calls it (in 3D
+    it runs lfqt.insert in Kd order)."""
+
+    def __init__(self):
+        self.name = "lfqt-delaunay"
+        self.dim = 3
+        self.threads = 1
+
+    def prepare(self, points, order=None, count=False):
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.dim = self.points.shape[1]
+        self.tri = None
+        # on points of its own: the input's first rows may be coplanar (a sorted
+        # grid's are), where Delaunay raises and insert returns a flagged mesh
+        rows = len(self._warm_points(self.points))
+        warm = np.random.default_rng(0).random((rows, self.dim))
+        _warmed(self, lambda: lfqt.Delaunay(warm, threads=self.threads))
+
+    def run(self):
+        self.tri = None
+        self.tri = lfqt.Delaunay(self.points, threads=self.threads)
+
+    def result(self):
+        return _result(self.tri.triangulation)
 
 
 class LfqtRadixSort(_Ours):
@@ -205,3 +243,4 @@ PEERS.update({f"lfqt-hybrid-{k}": (lambda k: lambda: LfqtDC(leaf_size=k))(k) for
 PEERS["lfqt-radix"] = LfqtRadixSort
 PEERS.update({f"lfqt-order-{o}": (lambda o: lambda: LfqtOrder(o))(o) for o in ORDERS})
 PEERS.update({f"lfqt-insert-{o}": (lambda o: lambda: LfqtInsert(o))(o) for o in ORDERS})
+PEERS["lfqt-delaunay"] = LfqtDelaunay

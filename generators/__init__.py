@@ -16,7 +16,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import hard, lidar, sets2d, sets3d, standins
+from . import hard, hard3d, lidar, sets2d, sets3d, standins
 from .cache import cached
 from .load import LoadError, load, register
 
@@ -88,6 +88,20 @@ REGISTRY = {d.name: d for d in [
                  dtypes=("float64",)),
     Distribution("gis", 2, hard.gis, "exactness (generators.hard)", duplicates="by-design",
                  tags=("hard",)),
+    Distribution("grid-3d", 3, hard3d.grid, "exactness in 3D (generators.hard3d)",
+                 tags=("hard",)),
+    Distribution("grid-3d-sorted", 3, hard3d.grid_sorted, "exactness in 3D (generators.hard3d)",
+                 tags=("hard",)),
+    Distribution("cospherical", 3, hard3d.cospherical, "exactness in 3D (generators.hard3d)",
+                 tags=("hard",)),
+    Distribution("sphere-rounded", 3, hard3d.sphere_rounded,
+                 "exactness in 3D (generators.hard3d)", tags=("hard",), dtypes=("float64",)),
+    Distribution("duplicates-3d", 3, hard3d.duplicates, "exactness in 3D (generators.hard3d)",
+                 duplicates="by-design", tags=("hard",)),
+    Distribution("subnormal-3d", 3, hard3d.subnormal, "exactness in 3D (generators.hard3d)",
+                 tags=("hard",), dtypes=("float64",)),
+    Distribution("huge-3d", 3, hard3d.huge, "exactness in 3D (generators.hard3d)",
+                 tags=("hard",), dtypes=("float64",)),
 ]}
 
 DTYPES = {"float32": np.float32, "float64": np.float64}

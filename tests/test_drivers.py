@@ -38,7 +38,8 @@ def test_2d_peers_agree_with_lfqt(name, rng):
     assert len(m.seconds) == 1 and m.seconds[0] > 0
 
 
-@pytest.mark.parametrize("name", PEERS_3D)
+# gmsh's default 3D path, flagged inexact, is judged by its own test (tests/test_drivers_3d.py)
+@pytest.mark.parametrize("name", [n for n in PEERS_3D if not drivers.make(n).inexact])
 def test_3d_peers_agree_with_lfqt_insert(name, rng):
     require(name)
     pts = rng.random((800, 3))

@@ -215,6 +215,29 @@ def test_degenerate_sets_are_what_they_say():
     assert 0 < np.abs(generators.make("subnormal", 100)).max() < 2.3e-308
 
 
+def test_the_hard_3d_sets_are_what_they_say():
+    from generators.hard3d import SPHERE_RADIUS
+    assert generators.names(3, tag="hard") == ["grid-3d", "grid-3d-sorted", "cospherical",
+                                               "sphere-rounded", "duplicates-3d",
+                                               "subnormal-3d", "huge-3d"]
+    lattice = np.stack(np.meshgrid(*[np.arange(20)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    grid = generators.make("grid-3d", 8000)
+    assert np.array_equal(np.unique(grid, axis=0), lattice)  # the whole 20^3 grid
+    assert not np.array_equal(grid, lattice)  # in random order
+    rows = generators.make("grid-3d-sorted", 8000)
+    assert np.array_equal(rows - rows[0], lattice)  # in lexicographic order, shifted
+    c = generators.make("cospherical", 3000).astype(np.int64)
+    assert np.array_equal(c[0], [0, 0, 0]) and len(np.unique(c, axis=0)) == 3000
+    r2 = (c[1:] ** 2).sum(axis=1)
+    k = np.round(np.sqrt(r2) / SPHERE_RADIUS).astype(np.int64)
+    assert np.array_equal(r2, (k * SPHERE_RADIUS) ** 2) and set(k) == {1, 2, 3}
+    sphere = generators.make("sphere-rounded", 1000)
+    assert np.allclose(np.linalg.norm(sphere, axis=1), 0.45, rtol=1e-15, atol=0)
+    assert len(np.unique(generators.make("duplicates-3d", 1000), axis=0)) == 500
+    assert 0 < np.abs(generators.make("subnormal-3d", 100)).max() < 2.3e-308
+    assert np.abs(generators.make("huge-3d", 100)).max() > 1e299
+
+
 def test_magnitude_sets_refuse_float32():
     with pytest.raises(ValueError, match="float64 set"):
         generators.make("huge", 10, dtype="float32")

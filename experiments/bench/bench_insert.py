@@ -1,5 +1,5 @@
-"""Benchmark: lfqt.insert against CGAL on the same input in the same run,
-single thread.
+"""Benchmark: lfqt.insert against CGAL (and in 3D the other 3D peers) on
+the same input in the same run, single thread.
 
     python -m experiments.bench_insert [--scale smoke|default|paper] [--rounds R]
                                        [--regime loop,kept,fresh]
@@ -7,8 +7,10 @@ single thread.
 2D: lfqt's Kd-order insertion against CGAL's Delaunay_triangulation_2 range
 insertion (which spatially sorts) of plain points (cgal-dt2, CGAL at its
 fastest) and of (point, index) pairs (cgal-dt2-indexed).  3D: the same with
-Delaunay_triangulation_3, and CGAL inserting our Kd order one point at a
-time with the parent as hint (paper 2's setup).  Times include order
+Delaunay_triangulation_3, CGAL inserting our Kd order one point at a
+time with the parent as hint (paper 2's setup), gmsh's HXT (gmsh-hxt) and
+TetGen (tetgen) on one thread; experiments.dt3 has every 3D peer, on 1 and
+2 threads, and their exactness.  Times include order
 building.  lfqt's time is the whole ``lfqt.insert`` call: validation, the
 order, the insertion, and the simplices and neighbours arrays (all but the
 order and the insertion take about 0.25 s of 3.8 s in 3D at 1M).  CGAL's is
@@ -32,7 +34,8 @@ from ..core.runner import Cell
 SIZES = {"smoke": [5_000], "default": [100_000, 1_000_000], "paper": [1_000_000, 3_000_000]}
 # (dimension, distribution, ours, CGAL peers)
 SETUPS = [(2, "uniform", "lfqt-insert-kdtree", ["cgal-dt2", "cgal-dt2-indexed", "cgal-dt2-kdtree"]),
-          (3, "cube", "lfqt-insert-kdtree", ["cgal-dt3", "cgal-dt3-indexed", "cgal-dt3-kdtree"])]
+          (3, "cube", "lfqt-insert-kdtree", ["cgal-dt3", "cgal-dt3-indexed", "cgal-dt3-kdtree",
+                                             "gmsh-hxt", "tetgen"])]
 TARGETS = {2: 1.2, 3: 1.0}  # lfqt time / CGAL time, by dimension
 
 
@@ -78,8 +81,9 @@ def _plot(df, out, regime):
         ax.set_xticks([i + 0.4 - width / 2 for i in range(len(ns))], [f"{n:,}" for n in ns])
         ax.set_ylabel("microseconds per point (median)")
         ax.set_ylim(top=ax.get_ylim()[1] * 1.15)  # room for the labels
-        ax.set_title(f"{dim}D, {dist}: insertion in Kd order vs CGAL "
-                     f"(target lfqt/CGAL <= {TARGETS[dim]})", fontsize=10)
+        ax.set_title(f"{dim}D, {dist}: insertion in Kd order vs CGAL"
+                     + (" and the 3D peers " if dim == 3 else " ")
+                     + f"(target lfqt/CGAL <= {TARGETS[dim]})", fontsize=10)
         ax.legend(fontsize=8)
         ax.grid(axis="y", alpha=0.3)
     fig.suptitle("lfqt.insert against CGAL, same input, same run; bar labels: median seconds "
@@ -92,9 +96,9 @@ def _plot(df, out, regime):
 # 3 interleaved rounds of 2 runs, not 1 round of 5: the 3D target's margin
 # is a few percent, and on a shared machine whole minutes run slow; the
 # median of the rounds' own ratios (results.round_ratio) then stands apart.
-EXPERIMENT = Experiment("bench_insert", "lfqt.insert in Kd order against CGAL DT2/DT3, same "
-                        "input, same run, interleaved rounds", grid, plot, repeats=2, rounds=3,
-                        regimes=REGIMES)
+EXPERIMENT = Experiment("bench_insert", "lfqt.insert in Kd order against CGAL DT2/DT3 (and "
+                        "HXT and TetGen in 3D), same input, same run, interleaved rounds", grid,
+                        plot, repeats=2, rounds=3, regimes=REGIMES)
 main = EXPERIMENT.main
 
 

@@ -59,7 +59,10 @@ class Experiment:
     # cell -> True for a cell whose outcome does not depend on the regime (the
     # field's exactness sets): measured in the loop regime alone
     loop_only: Callable = None
-    check: bool = False  # judge every mesh exactly (drivers.exactness) after its timed runs
+    # judge every mesh exactly (drivers.exactness) after its timed runs; or
+    # cell -> whether to judge its mesh (dt3: verify of a 1M-point
+    # tetrahedralisation takes longer than the cell's runs)
+    check: object = False
     timeouts: dict = None  # per-cell limits by scale, where not TIMEOUTS
     # the published claims it judges (claims.Claim), in the report's order
     claims: tuple = ()

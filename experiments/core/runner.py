@@ -156,7 +156,8 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
     compared under the same conditions rather than under whatever held while
     each peer's single cell ran.  ``known_failure(cell)`` may give a reason
     the cell is known to fail; it is then recorded as skipped, not run.
-    ``check``: judge every mesh exactly (drivers.exactness), in the child.
+    ``check``: judge every mesh exactly (drivers.exactness), in the child;
+    or a function of the cell saying whether to judge its mesh.
     """
     cells = [replace(c, round=r) for r in range(max(rounds, 1)) for c in cells
              if r == 0 or not c.count]  # counts are deterministic: one round
@@ -188,7 +189,8 @@ def run(experiment, cells, *, repeats=3, rounds=1, out="results", force=False, t
                 bar.set_postfix_str(cell.label())
             reason = known_failure(cell) if known_failure else None
             outcome = ({"status": "skipped", "detail": reason} if reason else
-                       measure_cell(cell, 1 if cell.count else repeats, timeout, check=check))
+                       measure_cell(cell, 1 if cell.count else repeats, timeout,
+                                    check=check(cell) if callable(check) else check))
             rec = {"key": cell.key, "cell": cell.fields(), "outcome": outcome, "code": code}
             results.append_log(f, rec)
             done[cell.key] = rec
