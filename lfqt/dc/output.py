@@ -20,17 +20,15 @@ lfqt.dc._memory):
    already read, and their vertex rows (input indices) in a buffer, in P's
    memory, which the merges no longer need;
 3. ``rows_low``: the lower half, read from the first up, put their vertex
-   rows in place, ``T[3t]``, over slots already read, and their neighbour
-   rows at ``T[3m + 3t]``, over slots that step 2 read;
-4. the buffer's rows go to their place, ``T[3 (m // 2)]`` on, over slots
-   that step 3 read.  ``simplices`` is then ``T[0:3m]`` and ``neighbors``
-   ``T[3m:6m]``::
+   rows in place, ``T[3t]``, over slots already read, their neighbour rows
+   at ``T[3m + 3t]``, over slots that step 2 read, and two of the buffered
+   upper vertex rows, whose place is slot t's own entries, there.  Then
+   ``simplices`` is ``T[0:3m]`` and ``neighbors`` ``T[3m:6m]``::
 
-        T after 1  [ slots 0 ... m/2 ... m | ghosts and unused ]
-        after 2    [ lower slots | ..  | neighbour rows of the upper half ]
-        after 3    [ vertex rows, lower | .. | neighbour rows, all ]
-        after 4    [ vertex rows, all         | neighbour rows, all ]
-                   0                          3m                    6m
+        T after 1  [ real slots 0 ......... m/2 ......... m | ghosts ]
+        after 2    [ lower slots  | upper, read | upper neighbour rows ]
+        after 3    [ vertex rows, lower | upper | neighbour rows, all   ]
+                   0                           3m                      6m
 
    Steps 2 and 3 each land their rows on slots read before, so on several
    threads they run in pieces that grow as they go (write_rows).
@@ -153,17 +151,23 @@ def rows_high(T, perm, buf, m, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def rows_low(T, perm, m, lo, hi):
-    """Step 3 for the real slots [lo, hi) of the lower half (hi <= m // 2),
-    read from the first up: each vertex row to its place T[3t], over slots
-    already read, and each neighbour row to T[3m + 3t], over slots that
-    rows_high read.  Returns 0, or -1 for a ghost."""
-    T, perm = borrow(T), borrow(perm)
+def rows_low(T, perm, buf, m, lo, hi):
+    """Steps 3 and 4 for the real slots [lo, hi) of the lower half (hi <=
+    m // 2), read from the first up: each vertex row to its place T[3t],
+    over slots already read, each neighbour row to T[3m + 3t], over slots
+    that rows_high read, and the upper vertex rows j = 2t - m // 2 and
+    j + 1 of ``buf``, whose places 3(m // 2 + j) are slot t's own entries,
+    there once it is read (while its lines are in the cache).  Returns 0,
+    or -1 for a ghost."""
+    T, perm, buf = borrow(T), borrow(perm), borrow(buf)
+    half = m // 2
     for t in range(lo, hi):
         a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
         if min(a, b, c) < 0:
             return -1
         _put(T, 3 * (m + t), T[slot(t, 4)] >> 2, T[slot(t, 5)] >> 2, T[slot(t, 3)] >> 2)
+        for j in range(max(2 * t - half, 0), 2 * t - half + 2):
+            _put(T, 3 * (half + j), buf[u(3 * j)], buf[u(3 * j + 1)], buf[u(3 * j + 2)])
         _put(T, 3 * t, perm[u(a)], perm[u(b)], perm[u(c)])
     return 0
 
@@ -178,7 +182,7 @@ def _put(dst, at, x, y, z):
 
 
 def write_rows(T, perm, buf, m, workers, first=None):
-    """Steps 2 to 4 of the module's docstring: the m packed real slots of T
+    """Steps 2 and 3 of the module's docstring: the m packed real slots of T
     become its vertex rows T[0:3m] and its neighbour rows T[3m:6m], with
     ``buf`` (at least 3(m - m // 2) entries of T's dtype) holding the upper
     half's vertex rows meanwhile.  On several threads each step runs in
@@ -190,18 +194,15 @@ def write_rows(T, perm, buf, m, workers, first=None):
     steps = ((_pieces(half, m, workers.threads, True, first),
               lambda c, a, b: rows_high(T, perm, buf, m, a, b)),
              (_pieces(0, half, workers.threads, False, first),
-              lambda c, a, b: rows_low(T, perm, m, a, b)))
+              lambda c, a, b: rows_low(T, perm, buf, m, a, b)))
     for pieces, rows in steps:
         for k, (lo, hi) in enumerate(pieces):
             parts = [(lo, hi)] if k == 0 else [
                 (lo + a, lo + b) for a, b in workers.chunks(hi - lo, min_chunk=MIN_CHUNK)]
             if min(workers.map(parts, rows)) < 0:
                 return False
-    count = 3 * (m - half)
-
-    def copy(c, lo, hi):
-        T[3 * half + lo:3 * half + hi] = buf[lo:hi]
-    workers.map(workers.chunks(count, min_chunk=MIN_CHUNK), copy)
+    if m % 2:  # the last upper vertex row, on slot m // 2, which rows_high read
+        T[3 * m - 3:3 * m] = buf[3 * half:3 * half + 3]
     return True
 
 
