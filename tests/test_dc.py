@@ -373,7 +373,7 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     end = subdivide.subdivide_lfqt(gaps, lo, hi, ops, 3)
     expect_ops, expect_bits = algorithm1_ops(keys, lo, hi)
     assert ops[3:end].tolist() == expect_ops
-    # the same sweep in pieces, as the merges run it (lfqt.dc.merge.merge_lfqt)
+    # the same sweep in pieces, as the merges run it (lfqt.dc.state.State.merge_range)
     piece = np.empty(data.draw(st.integers(STACK + 2, STACK + 12)), dtype=np.int64)
     stack = np.empty((2, STACK + 1), dtype=np.int64)
     swept, i, top = [], lo, -1

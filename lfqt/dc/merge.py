@@ -29,7 +29,6 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..clock import cycle_counter
 from ..indexing import borrow, u
 from ..predicates.counters import INCIRCLE, ORIENT, tally_undecided
 from ..predicates.levels import binade, level_bounds
@@ -38,7 +37,7 @@ from ..predicates.planar import (CCW_A, ICC_A, incircle_decide, incircle_staged,
 from .layout import (GHOST, PART, SMALL, STACK, XMAX, XMIN, YMAX, YMIN, before, head, inner,
                      link, link_edges, nxt, origin, prv, ring_edge, ring_ghost, set_triangle,
                      tail, tri, twin)
-from .subdivide import ALT_X, subdivide_next
+from .subdivide import ALT_X
 
 # A vertex and its coordinates, loaded once and kept in registers.
 Vertex = namedtuple("Vertex", "id x y")
@@ -58,10 +57,6 @@ Rel = namedtuple("Rel", "ux uy lift k")
 # A merge's stage-1 bounds: dynamic and static (lfqt.predicates.planar), of
 # orient and of in-circle.
 Bounds = namedtuple("Bounds", "ccw ccw_static icc icc_static")
-
-# Ops per piece of merge_lfqt's sweep: the list stays in the first-level
-# cache, and a piece's set-up (a partition stack handed over) is noise.
-OPS_PIECE = 4096
 
 
 @njit(cache=True, inline="always")
@@ -711,28 +706,3 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
         _copy_row(parts_out, i, stack, i)
     return top + 1
 
-
-@njit(cache=True, nogil=True)
-def merge_lfqt(gaps, lo, hi, mesh, counts, part):
-    """The LFQT's subdivision and merges of sorted positions [lo, hi)
-    (codes: ``gaps``), its partition row written to ``part`` (1, PART).
-    The ops are swept and run a piece at a time (subdivide_next, run_ops,
-    the partition stack handed from piece to piece), so that the call
-    holds no list of 2n ops (8 bytes a point at the peak, which is the end
-    of the merges: lfqt.dc._memory).  Returns the counter cycles of the
-    sweep and of the whole, for the caller to split its wall time."""
-    c_start = cycle_counter()
-    ops = np.empty(OPS_PIECE, dtype=np.int64)
-    stack = np.empty((2, STACK + 1), dtype=np.int64)
-    parts = np.empty((STACK, PART), dtype=np.int64)
-    i, top, n_parts, sweep = lo, -1, 0, 0
-    while hi > lo:
-        c0 = cycle_counter()
-        nops, i, top = subdivide_next(gaps, i, hi, ops, stack, top)
-        sweep += cycle_counter() - c0
-        if nops == 0:
-            break
-        n_parts = run_ops(ops, 0, nops, mesh, gaps, counts, parts, n_parts, parts)
-    for k in range(PART if n_parts else 0):
-        part[0, k] = parts[0, k]
-    return sweep, cycle_counter() - c_start

@@ -134,9 +134,9 @@ def subdivide_lfqt(gaps, lo, hi, ops, nops):
 
 @njit(cache=True, nogil=True)
 def subdivide_next(gaps, i, hi, ops, stack, top):
-    """subdivide_lfqt's sweep in pieces, for a merge that runs each piece
-    of ops as it comes (lfqt.dc.merge.merge_lfqt) instead of holding all
-    2n of them: the ops of positions from ``i`` on, up to ``hi``, written
+    """subdivide_lfqt's sweep in pieces, for merges that run each piece of
+    ops as it comes (lfqt.dc.state.State.merge_range) instead of holding
+    all 2n of them: the ops of positions from ``i`` on, up to ``hi``, written
     from ops[0] while a position's pops and pushes still fit.  ``stack``
     (2, STACK + 1) holds the open splits (row 0) and their bits (row 1),
     ``top`` their count; a sweep starts at its first position with
