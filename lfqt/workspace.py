@@ -1,5 +1,5 @@
 """Memory reused from call to call: the large arrays of a triangulation
-(keys, permutations, the points in Morton order, the op list, and the
+(keys, permutations, the points in Morton order, the triangles, and the
 result's arrays) come from a process-wide pool of anonymous mappings, and
 each goes back to the pool when the last array on it dies, for the next
 request to write pages that are already there instead of faulting in fresh
@@ -25,7 +25,8 @@ mappings smaller than itself first (a call on other sizes), so that the
 pool never holds memory the call could have used beside what it maps.
 
 A result that keeps only a range of its mapping (``keep_range``: the
-divide and conquer's neighbours in about half of T) gives the pages around
+divide and conquer's simplices and neighbours, written over T but for its
+ghosts' slots) gives the pages around
 it back late: at the pool's next request, if the result is still
 alive then (so a caller that keeps each result while it asks for the next
 holds no more than before), after IDLE_SECONDS, or at ``release()``; and

@@ -10,6 +10,7 @@ import scipy.spatial
 from hypothesis import given, strategies as st
 
 import lfqt
+from lfqt.dc.layout import STACK
 from lfqt.predicates.planar import orient2d_exact
 from conftest import triangle_set, triangulate_verified
 
@@ -159,6 +160,58 @@ def test_many_calls_in_one_process_stay_sound():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=600)
     assert proc.returncode == 0 and proc.stdout.strip() == "sound", proc.stderr[-2000:]
+
+
+def test_peak_memory_of_a_call_is_that_of_the_merges_arrays():
+    """In a child process, 1M uniform points, on 1 and 2 threads: the
+    resident memory a call adds at its peak (VmHWM, reset before the call)
+    stays within the arrays alive at the end of the merges, T, P, perm,
+    ghost_out (then duplicate_of), the gaps and a piece of ops per thread,
+    plus 1 MiB: no list of all ops, and no result array beside T
+    (lfqt.dc._memory).  Before the ops were swept
+    in pieces and the output written over T, a call added 81 bytes a
+    point, here 8 more than this bound."""
+    code = textwrap.dedent("""
+        import gc, sys
+        import numpy as np
+        import lfqt
+        from lfqt import dc, preload, workspace
+        from lfqt.dc.state import OPS_PIECE
+
+        def status(key):
+            with open("/proc/self/status") as f:
+                return next(int(l.split()[1]) * 1024 for l in f if l.startswith(key + ":"))
+
+        n = 1_000_000
+        pts = np.random.default_rng(3).random((n, 2))
+        preload.wait()
+        lfqt.triangulate(pts[:1000], threads=2)  # the pool's threads started
+        for threads in (1, 2):
+            gc.collect()
+            workspace.release()
+            try:
+                with open("/proc/self/clear_refs", "w") as f:
+                    f.write("5")  # VmHWM back to VmRSS
+            except OSError:
+                print("skip"); sys.exit(0)
+            before = status("VmRSS")
+            tri = lfqt.triangulate(pts, threads=threads)
+            peak = status("VmHWM") - before
+            arrays = (workspace.view_bytes(dc._t_spec(n)) + workspace.view_bytes(dc._point_spec(n))
+                      + n * tri.hull.itemsize + tri.duplicate_of.nbytes + n
+                      + threads * OPS_PIECE * 8)
+            print(threads, peak, arrays)
+            assert peak <= arrays + (1 << 20), (threads, peak / n, arrays / n)
+            assert lfqt.verify(pts, tri).ok
+            del tri
+        print("fits")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    if proc.stdout.strip() == "skip":
+        pytest.skip("no /proc/self/clear_refs to reset the peak")
+    assert proc.returncode == 0 and proc.stdout.strip().endswith("fits"), \
+        proc.stdout + proc.stderr[-2000:]
 
 
 def test_empty_input():
@@ -323,6 +376,16 @@ def test_subdivision_sweep_equals_algorithm_1(values, data):
     end = subdivide.subdivide_lfqt(gaps, lo, hi, ops, 3)
     expect_ops, expect_bits = algorithm1_ops(keys, lo, hi)
     assert ops[3:end].tolist() == expect_ops
+    # the same sweep in pieces, as the merges run it (lfqt.dc.state.State.merge_range)
+    piece = np.empty(data.draw(st.integers(STACK + 2, STACK + 12)), dtype=np.int64)
+    stack = np.empty((2, STACK + 1), dtype=np.int64)
+    swept, i, top = [], lo, -1
+    while True:
+        count, i, top = subdivide.subdivide_next(gaps, i, hi, piece, stack, top)
+        if count == 0:
+            break
+        swept += piece[:count].tolist()
+    assert swept == expect_ops
     assert {p: int(gaps[p]) for p in expect_bits} == expect_bits  # a split's code is its gap
     if all(k < 2 ** 64 for k in keys):  # 64-bit keys (float32 input)
         gaps64 = np.zeros(n, dtype=np.uint8)

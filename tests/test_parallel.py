@@ -52,17 +52,17 @@ def test_random_small_sets_match_serial(seed, n, threads, with_duplicates):
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2 ** 32 - 1), st.integers(2, 3000), st.sampled_from(THREADS),
        st.booleans())
-def test_output_chunks_meet_without_a_move_and_match_serial(seed, n, threads, with_duplicates):
-    """With output chunks of 64 rows at the least, small sets
-    split their output over every thread: the first chunk's rows written
-    downward to meet the second's, the later ones moved behind them."""
+def test_output_pieces_over_every_thread_match_serial(seed, n, threads, with_duplicates):
+    """With output pieces and chunks of 64 rows at the least, small sets
+    split their output over every thread: the rows written over T's slots
+    in pieces that grow as they go (lfqt.dc.output.write_rows)."""
     rng = np.random.default_rng(seed)
     pts = rng.random((n, 2))
     if with_duplicates:
         pts = np.r_[pts, pts[: n // 3]]
     serial = lfqt.triangulate(pts, threads=1)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(lfqt.dc, "MIN_CHUNK", 64)
+        mp.setattr(lfqt.dc.output, "MIN_CHUNK", 64)
         par = triangulate_verified(pts, threads=threads)
     assert np.array_equal(serial.simplices, par.simplices)
     assert np.array_equal(serial.neighbors, par.neighbors)

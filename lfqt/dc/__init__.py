@@ -21,7 +21,7 @@ from .._input import FORMATS, exact_floats2d, exponent_for, index_dtype, magnitu
 from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
 from ..triangulation import Triangulation
-from ..workers import MIN_CHUNK, Workers
+from ..workers import Workers
 from . import bins, hybrid, output, subdivide
 from .layout import PART, SMALL, XMAX, XMIN, Mesh, t_dtype
 from .state import State
@@ -139,32 +139,29 @@ def triangulate(points: npt.ArrayLike, *, threads: int | np.integer[Any] | None 
 def _memory(n, idx, workers):
     """The call's two large mappings (lfqt.workspace), each home in turn to
     arrays whose lives do not overlap, so that the phases of a call write
-    the same pages one after the other instead of a fresh set each (and
-    its peak memory is no higher)::
+    the same pages one after the other instead of a fresh set each, and
+    its peak memory is that of the merges' end: T, P, perm, ghost_out and
+    the gaps (about 73 bytes a point, docs/performance.md, "peak memory")::
 
         slots   [ khi | key_buf | slo ]               phase 1: the sort's keys
                 [ T: 6 entries a triangle slot .... ]  phases 2-3, the keys dropped
-                [ neighbors (m, 3) ]                    the output, in T's memory
+                [ simplices (m, 3) | neighbors (m, 3) ] the output, over T
         points  [ perm_buf ]                            phase 1: the sort's scratch
-                [ P: (n, 2) float64 | ops: 2n ]         phases 1-3
-                [ simplices (m, 3) ]                    the output (m < 2n)
+                [ P: (n, 2) float64 ]                   phases 1-3
+                [ buf ]                                 the output's upper vertex rows
 
     The keys are sized for 128-bit keys, the larger.  A result keeps
-    neighbors' pages, about half of T (the rest goes back to the system if
-    the result outlives its call: workspace.keep_range), and
-    simplices', all of ``points``: what the sort writes in parallel lies
-    there (slo is written in runs of equal high words only), for pages
-    given back fault in again in the next call that reuses the mapping,
-    and at two threads faults in parallel cost (1M, after a call whose
-    result was freed and its T trimmed at once: the radix sort on two
-    threads took 15 ms with perm_buf in T's second half, 9.9 ms here).
-    Both are written whole, so a fresh mapping is populated at once, on
-    ``workers`` (workspace.empty).  Returns (slots, points), uint8 arrays."""
+    ``slots`` alone, and ``points`` goes back to the pool at the call's
+    end.  Both are written whole, so a fresh mapping is populated at once,
+    on ``workers`` (workspace.empty).  Returns (slots, points), uint8
+    arrays."""
     slots = workspace.empty(max(workspace.view_bytes(_t_spec(n)),
                                 workspace.view_bytes(*_sort_specs(n, True))), np.uint8,
                             populate=workers)
-    points = workspace.empty(max(workspace.view_bytes(*_point_specs(n, idx)),
-                                 3 * 2 * n * np.dtype(idx).itemsize), np.uint8, populate=workers)
+    t_bytes = np.dtype(_t_spec(n)[1]).itemsize
+    points = workspace.empty(max(workspace.view_bytes(_point_spec(n)),
+                                 3 * n * t_bytes, n * np.dtype(idx).itemsize), np.uint8,
+                             populate=workers)
     return slots, points
 
 
@@ -180,8 +177,9 @@ def _t_spec(n):
     return 6 * max(2 * (n - 1), 0), t_dtype(n)
 
 
-def _point_specs(n, idx):
-    return [(2 * n, np.float64), (max(2 * n, 1), idx)]
+def _point_spec(n):
+    """P's entries and dtype."""
+    return 2 * n, np.float64
 
 
 class Sorted(NamedTuple):
@@ -217,7 +215,7 @@ def _sorted_points(pts, workers, idx_dtype, slots, points):
     n = pts.shape[0]
     khi, klo, perm, scan = sorted_keys(pts, workers, idx_dtype, (slots, points))
     scale_exp = exponent_for(pts.dtype, *magnitudes(pts, scan, workers))
-    P = workspace.views(points, *_point_specs(n, idx_dtype))[0].reshape(n, 2)
+    P = workspace.views(points, _point_spec(n))[0].reshape(n, 2)
     gaps, copies = key_gaps(khi, klo, pts.dtype == np.float64, workers, lambda lo, hi: (
         output.gather_points(pts, perm, 2.0 ** scale_exp, P, lo, hi)))
     return Sorted(khi, klo, gaps, copies, perm, P, scale_exp)
@@ -265,10 +263,10 @@ def sorted_keys(pts, workers, idx_dtype, scratch=None):
     return klo[:0], klo, perm, scan
 
 
-def _state(s, dtype, level_filter, slots, points):
+def _state(s, dtype, level_filter, slots):
     """The arrays of the subdivision and merge (lfqt.dc.state.State) around
-    the sorted keys and points ``s`` (a Sorted), T and ops in the call's
-    mappings (_memory).
+    the sorted keys and points ``s`` (a Sorted), T in the call's mapping
+    ``slots`` (_memory).
     T is not filled: every slot a merge owns is written by it, and the
     output tells the others by their split position (output.fill_holes).
     The keys in T's memory are read no more once the merges start
@@ -276,11 +274,10 @@ def _state(s, dtype, level_filter, slots, points):
     n = s.P.shape[0]
     idx = s.perm.dtype
     T = workspace.views(slots, _t_spec(n))[0]
-    ops = workspace.views(points, *_point_specs(n, idx))[1]
     coord_bits, exp_bits, mant_bits, emin = FORMATS[dtype]
     fmt = np.array([coord_bits, exp_bits, mant_bits, emin, s.scale_exp], dtype=np.int64)
     mesh = Mesh(s.P, T, workspace.empty(n, idx), fmt, level_filter)
-    return State(s.khi, s.klo, dtype == np.float64, mesh, ops, s.gaps, s.gaps, s.copies)
+    return State(s.khi, s.klo, dtype == np.float64, mesh, None, s.gaps, s.gaps, s.copies)
 
 
 def _serial(state, subdivision, counts):
@@ -288,20 +285,21 @@ def _serial(state, subdivision, counts):
     n = state.n
     state.drop_keys()  # the gaps stand for the keys, in T's memory, from here on
     t0 = time.perf_counter()
-    nops = 0
+    root = np.zeros((1, PART), dtype=np.int64)
+    share = 0.0  # of the time, the subdivision's
     if subdivision == "alternating" and n:
         state.codes = np.full(n, subdivide.DUP, dtype=np.uint8)
+        state.ops = np.empty(2 * n, dtype=np.int64)
         nops = subdivide.subdivide_alternating(subdivide.run_starts(state.gaps, 0, n),
                                                state.mesh.P, state.ops, state.codes)
-    elif n:
-        nops = state.subdivide(0, n, 0)
-    t1 = time.perf_counter()
-    root = np.zeros((1, PART), dtype=np.int64)
-    if n:
+        share = time.perf_counter() - t0
         state.merge(0, nops, counts, root, 0, root)
-    t2 = time.perf_counter()
-    return root[0], dict(subdivide_top=0.0, subdivide_lower=t1 - t0, merge_lower=t2 - t1,
-                         merge_top=0.0)
+        share /= max(time.perf_counter() - t0, 1e-12)
+    elif n:
+        share = state.merge_range(0, n, counts, root)
+    wall = time.perf_counter() - t0
+    return root[0], dict(subdivide_top=0.0, subdivide_lower=share * wall,
+                         merge_lower=(1.0 - share) * wall, merge_top=0.0)
 
 
 def _triangulate(points, workers, subdivision, counters, filter, schedule, hybrid_leaf=None):
@@ -316,7 +314,7 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
     del pts  # P holds the coordinates from here on; peak memory matters at 10M+
     t_sort = time.perf_counter()
     level_filter = filter == "level" and subdivision == "lfqt"
-    state = _state(ordered, dtype, level_filter, slots, points_mem)
+    state = _state(ordered, dtype, level_filter, slots)
     perm, scale_exp = ordered.perm, ordered.scale_exp
     del slots, ordered  # T's array holds it from here on
     counts = new_counters()
@@ -366,13 +364,14 @@ def _triangulate(points, workers, subdivision, counters, filter, schedule, hybri
 
 def _output(state, perm, root, workers, points_mem):
     """The real triangles in input indices, the hull loop and duplicate_of,
-    as an Output.  Takes the mesh out of ``state`` and builds
-    ``neighbors`` in T's own memory (lfqt.dc.output), ``simplices`` in
-    P's and ops' (``points_mem``, _memory) and ``duplicate_of`` in
-    ghost_out's, so that no array of the mesh and of the result coexist."""
+    as an Output.  Takes the mesh out of ``state`` and turns T into
+    ``simplices`` and ``neighbors`` in its own memory (lfqt.dc.output),
+    with P's (``points_mem``, _memory) for the rows in between, and
+    ``duplicate_of`` in ghost_out's, so that no array of the mesh and of
+    the result coexist."""
     T, ghost_out, gaps, codes, copies = (state.mesh.T, state.mesh.ghost_out, state.gaps,
                                          state.codes, state.copies)
-    state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # P, ops
+    state.mesh = state.khi = state.klo = state.ops = state.gaps = state.codes = None  # P
     n = len(perm)
     idx = perm.dtype
     start = int(ghost_out[root[XMIN]]) if len(T) else -1  # a ghost of the hull ring
@@ -401,24 +400,15 @@ def _output(state, perm, root, workers, points_mem):
         raise RuntimeError("lfqt internal error: the real triangles do not fill the slots; "
                            "please report the input")
     del gaps, codes
-    simplices = workspace.views(points_mem, (3 * m, idx))[0].reshape(m, 3)
-    # the neighbour rows start at T[head]: the first chunk's end where the
-    # second's begin (output.write_rows_down), and the later chunks' move
-    # down behind them; on one chunk they start at T[0]
-    chunks = workers.chunks(m, min_chunk=MIN_CHUNK)
-    head = 3 * chunks[1][0] if len(chunks) > 1 else 0
-
-    def write(c, lo, hi):
-        if c == 0 and len(chunks) > 1:
-            return output.write_rows_down(T, perm, simplices, lo, hi, 6 * hi)
-        return output.write_rows(T, perm, simplices, lo, hi, 6 * lo)
-    lengths = workers.map(chunks, write)
-    if min(lengths, default=0) < 0:
+    buf = workspace.views(points_mem, (3 * (m - m // 2), T.dtype))[0]
+    if not output.write_rows(T, perm, buf, m, workers):
         raise RuntimeError("lfqt internal error: a ghost triangle off the hull ring; please "
                            "report the input")
-    for (lo, _), length in list(zip(chunks, lengths))[2:]:  # in order, each over the last
-        output.move_rows_parallel(T, 6 * lo, head + 3 * lo, length, workers)
-    return Output(simplices, _rows(T, head, m, idx), hull, duplicate_of, n_distinct, reason)
+    rows = workspace.keep_range(T, 0, 6 * m)
+    if T.dtype != idx:  # more than 2**28 points: T's entries are wider than the indices
+        rows = rows.astype(idx)
+    return Output(rows[:3 * m].reshape(m, 3), rows[3 * m:].reshape(m, 3), hull, duplicate_of,
+                  n_distinct, reason)
 
 
 def _first_copies(gaps, perm, workers, out):
@@ -429,11 +419,3 @@ def _first_copies(gaps, perm, workers, out):
     docs/performance.md, "identity duplicate_of")."""
     return int(sum(workers.map(workers.chunks(len(perm)), lambda c, lo, hi: (
         output.duplicates_into(gaps, perm, out, lo, hi)))))
-
-
-def _rows(T, head, m, idx):
-    """The 3m entries of T from T[head] as (m, 3) rows of dtype idx: a view
-    whose memory around it is given back (workspace.keep_range), or a copy
-    when T's dtype is wider than idx (more than 2**28 points)."""
-    rows = workspace.keep_range(T, head, head + 3 * m)
-    return (rows if T.dtype == idx else rows.astype(idx)).reshape(m, 3)

@@ -3,7 +3,7 @@
 One thread cuts the upper levels of the quad-tree into *bins*; that is cheap
 because a split is a binary search over sorted keys.  Each bin is subdivided
 and merged by the jitted kernels with the GIL released, writing only its own
-op range ``[2 lo, 2 hi)``, its own triangle slots and its own vertices.  A
+triangle slots and its own vertices.  A
 merge of the upper part either starts as soon as both of its children are
 done (``schedule="tasks"``, the default: the paper's split-list of Fig. 2,
 with a small scheduler in Python threads standing in for its atomic
@@ -88,17 +88,16 @@ def build(state, workers, schedule="tasks", bin_size=None, insert_order=None):
             add_time("order_lower", t_order)
             add_time("insert_lower", time.perf_counter() - a - t_order)
         else:
-            end = state.subdivide(lo, hi, 2 * lo)
-            b = time.perf_counter()
-            state.merge(2 * lo, end, cnt, tree.parts, 0, tree.parts[k:k + 1])
-            add_time("subdivide_lower", b - a)
-            add_time("merge_lower", time.perf_counter() - b)
+            share = state.merge_range(lo, hi, cnt, tree.parts[k:k + 1])
+            wall = time.perf_counter() - a
+            add_time("subdivide_lower", share * wall)
+            add_time("merge_lower", (1.0 - share) * wall)
         counters.append(cnt)
 
     def run_merge(k):
         left, right = nodes[k, 4], nodes[k, 5]
         cnt = new_counters()
-        op = np.array([nodes[k, 2]], dtype=state.ops.dtype)  # its code: gaps[split]
+        op = np.array([nodes[k, 2]], dtype=np.int64)  # its code: gaps[split]
         a = time.perf_counter()
         state.merge(0, 1, cnt, tree.parts[[left, right]], 2, tree.parts[k:k + 1], ops=op)
         add_time("merge_top", time.perf_counter() - a)

@@ -100,8 +100,7 @@ def insert_bin(state, lo, hi, order, counts, part):
     (shape (1, PART)).  Falls back to the divide and conquer's own merges
     for a bin of fewer than 3 distinct points or collinear ones.  Returns
     the seconds spent building the order."""
-    end = state.subdivide(lo, hi, 2 * lo)
-    ops = state.ops[2 * lo:end]
+    ops = state.bin_ops(lo, hi)
     ids = run_starts(state.gaps, lo, hi)
     t_order = 0.0
     if len(ids) >= 3:
@@ -121,5 +120,5 @@ def insert_bin(state, lo, hi, order, counts, part):
             live = int((mark != insertion.DEAD).sum())
             raise RuntimeError(f"bin [{lo}, {hi}): {live} cells for {len(slots)} "
                                "slots")
-    state.merge(2 * lo, end, counts, part, 0, part)
+    state.merge(0, len(ops), counts, part, 0, part, ops=ops)
     return t_order

@@ -705,3 +705,4 @@ def run_ops(ops, op_lo, op_hi, mesh, codes, counts, parts_in, n_in, parts_out):
     for i in range(top + 1):
         _copy_row(parts_out, i, stack, i)
     return top + 1
+

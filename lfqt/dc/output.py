@@ -3,8 +3,9 @@ the Morton-order gather of the input, the real triangles in input indices,
 the hull loop and ``duplicate_of``.  Every kernel works on an index range,
 so the pipeline can chunk it over threads.
 
-The output is built in T's own memory, so that T and a full copy of the
-result never coexist (peak memory, lfqt.dc._output):
+The output is written over T, so that the result costs no memory beyond
+T's and T and a copy of the result never coexist (peak memory,
+lfqt.dc._memory):
 
 1. ``fill_holes``: once the merges are done every used slot holds a real
    triangle or a ghost of the one hull ring, and the slots of the
@@ -14,22 +15,29 @@ result never coexist (peak memory, lfqt.dc._output):
    slot is then its output row, and a twin, shifted, its neighbour's, with
    no rank from a bitmap of the real slots and a popcount
    (docs/performance.md, "output without ranks");
-2. ``write_rows``: in one pass over T, the vertex rows, in input indices,
-   to a new array, and each chunk's neighbour rows packed at the start of
-   its own part of T.  Row k of a chunk lands at 3k to 3k + 2,
-   below the slots after k, which are still to be read (at 6k + 6 on).
-   With several chunks, the first is read downward and its rows packed to
-   end where the second chunk's begin (``write_rows_down``), so that the
-   two meet in place;
-3. ``move_rows``: the later chunks' rows slide down behind them, in chunk
-   order, each below what is still to move; the result keeps T's range of
-   rows, and the pages around it go back to the system (lfqt.workspace).
-   Meeting in place saves a move (docs/performance.md, "output rows").
+2. ``rows_high``: the upper half of the slots, read from the last down,
+   put their neighbour rows in place, ``T[3m + 3t]``, which lies on slots
+   already read, and their vertex rows (input indices) in a buffer, in P's
+   memory, which the merges no longer need;
+3. ``rows_low``: the lower half, read from the first up, put their vertex
+   rows in place, ``T[3t]``, over slots already read, their neighbour rows
+   at ``T[3m + 3t]``, over slots that step 2 read, and two of the buffered
+   upper vertex rows, whose place is slot t's own entries, there.  Then
+   ``simplices`` is ``T[0:3m]`` and ``neighbors`` ``T[3m:6m]``::
+
+        T after 1  [ real slots 0 ......... m/2 ......... m | ghosts ]
+        after 2    [ lower slots  | upper, read | upper neighbour rows ]
+        after 3    [ vertex rows, lower | upper | neighbour rows, all   ]
+                   0                           3m                      6m
+
+   Steps 2 and 3 each land their rows on slots read before, so on several
+   threads they run in pieces that grow as they go (write_rows).
 """
 import numpy as np
 from numba import njit
 
 from ..indexing import borrow, prefetch, u
+from ..workers import MIN_CHUNK
 from .layout import GHOST, edge, inner, ring_ghost, slot, tail, twin
 from .subdivide import DUP
 
@@ -124,82 +132,106 @@ def _move(T, t, d):
 
 
 @njit(cache=True, nogil=True)
-def write_rows(T, perm, simplices, lo, hi, at):
-    """The rows of the real slots [lo, hi) (packed: fill_holes): vertex rows,
-    in input indices, to ``simplices``; neighbour rows (neighbour i opposite
-    vertex i, -1 on the hull) packed into T from T[at] on, at <= 6 * lo.
-    Slot t is read whole before its rows are written, and its neighbour row
-    lands below the slots still to be read (the module's step 2).  Returns
-    how many entries of T were written, or -1 for a ghost."""
-    T, perm, simplices = borrow(T), borrow(perm), borrow(simplices)
-    for t in range(lo, hi):
-        if not _write_row(T, perm, simplices, t, at + 3 * (t - lo)):
+def rows_high(T, perm, buf, m, lo, hi):
+    """Step 2 for the real slots [lo, hi) of the upper half (lo >= m // 2),
+    read from the last down: each neighbour row (neighbour i opposite
+    vertex i, -1 on the hull) to its place T[3m + 3t], over slots already
+    read, and each vertex row, in input indices, to buf[3(t - m // 2)].
+    Slot t is read whole before its rows are written.  Returns 0, or -1
+    for a ghost (never, but never as output)."""
+    T, perm, buf = borrow(T), borrow(perm), borrow(buf)
+    half = m // 2
+    for t in range(hi - 1, lo - 1, -1):
+        a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
+        if min(a, b, c) < 0:
             return -1
-    return 3 * (hi - lo)
+        _put(T, 3 * (m + t), T[slot(t, 4)] >> 2, T[slot(t, 5)] >> 2, T[slot(t, 3)] >> 2)
+        _put(buf, 3 * (t - half), perm[u(a)], perm[u(b)], perm[u(c)])
+    return 0
 
 
 @njit(cache=True, nogil=True)
-def write_rows_down(T, perm, simplices, lo, hi, end):
-    """write_rows for the first of several chunks, its slots read from the
-    last down and its neighbour rows packed to end at T[end], where the
-    next chunk's begin (its first slot's, 6 * hi): the two meet without a
-    move.  Row t lands at end - 3(hi - t), above every slot still to be
-    read::
-
-        T  [ slots of this chunk, read downward     | next chunk's slots ... )
-                         [ its rows, written downward ][ next chunk's rows ... )
-                      end - 3(hi - lo)               end
-
-    Returns how many entries of T were written, or -1 as write_rows."""
-    T, perm, simplices = borrow(T), borrow(perm), borrow(simplices)
-    for t in range(hi - 1, lo - 1, -1):
-        if not _write_row(T, perm, simplices, t, end - 3 * (hi - t)):
+def rows_low(T, perm, buf, m, lo, hi):
+    """Steps 3 and 4 for the real slots [lo, hi) of the lower half (hi <=
+    m // 2), read from the first up: each vertex row to its place T[3t],
+    over slots already read, each neighbour row to T[3m + 3t], over slots
+    that rows_high read, and the upper vertex rows j = 2t - m // 2 and
+    j + 1 of ``buf``, whose places 3(m // 2 + j) are slot t's own entries,
+    there once it is read (while its lines are in the cache).  Returns 0,
+    or -1 for a ghost."""
+    T, perm, buf = borrow(T), borrow(perm), borrow(buf)
+    half = m // 2
+    for t in range(lo, hi):
+        a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
+        if min(a, b, c) < 0:
             return -1
-    return 3 * (hi - lo)
+        _put(T, 3 * (m + t), T[slot(t, 4)] >> 2, T[slot(t, 5)] >> 2, T[slot(t, 3)] >> 2)
+        for j in range(max(2 * t - half, 0), 2 * t - half + 2):
+            _put(T, 3 * (half + j), buf[u(3 * j)], buf[u(3 * j + 1)], buf[u(3 * j + 2)])
+        _put(T, 3 * t, perm[u(a)], perm[u(b)], perm[u(c)])
+    return 0
 
 
 @njit(cache=True, inline="always")
-def _write_row(T, perm, simplices, t, at):
-    """Real slot t's vertex row (input indices) to simplices[t] and its
-    neighbour row to T[at:at + 3], after reading the slot whole; False for
-    a ghost (never, but never as output)."""
-    a, b, c = T[slot(t, 0)], T[slot(t, 1)], T[slot(t, 2)]
-    if min(a, b, c) < 0:
-        return False
-    e_bc, e_ca, e_ab = T[slot(t, 4)], T[slot(t, 5)], T[slot(t, 3)]  # opposite a, b, c
-    simplices[u(t), 0] = perm[u(a)]
-    simplices[u(t), 1] = perm[u(b)]
-    simplices[u(t), 2] = perm[u(c)]
-    T[u(at)] = e_bc >> 2  # the neighbour's slot, and -1 stays -1
-    T[u(at + 1)] = e_ca >> 2
-    T[u(at + 2)] = e_ab >> 2
+def _put(dst, at, x, y, z):
+    """dst[at:at + 3] = x, y, z (the values read before: they may come from
+    the slot the row lands on)."""
+    dst[u(at)] = x
+    dst[u(at + 1)] = y
+    dst[u(at + 2)] = z
+
+
+def write_rows(T, perm, buf, m, workers, first=None):
+    """Steps 2 and 3 of the module's docstring: the m packed real slots of T
+    become its vertex rows T[0:3m] and its neighbour rows T[3m:6m], with
+    ``buf`` (at least 3(m - m // 2) entries of T's dtype) holding the upper
+    half's vertex rows meanwhile.  On several threads each step runs in
+    pieces whose rows land only on slots read before the piece (rows_high,
+    rows_low; the first piece of each, ``first`` rows (default MIN_CHUNK),
+    on one thread, in order).  Returns False for a ghost among the slots."""
+    first = first or MIN_CHUNK
+    half = m // 2
+    steps = ((_pieces(half, m, workers.threads, True, first),
+              lambda c, a, b: rows_high(T, perm, buf, m, a, b)),
+             (_pieces(0, half, workers.threads, False, first),
+              lambda c, a, b: rows_low(T, perm, buf, m, a, b)))
+    for pieces, rows in steps:
+        for k, (lo, hi) in enumerate(pieces):
+            parts = [(lo, hi)] if k == 0 else [
+                (lo + a, lo + b) for a, b in workers.chunks(hi - lo, min_chunk=MIN_CHUNK)]
+            if min(workers.map(parts, rows)) < 0:
+                return False
+    if m % 2:  # the last upper vertex row, on slot m // 2, which rows_high read
+        T[3 * m - 3:3 * m] = buf[3 * half:3 * half + 3]
     return True
 
 
-@njit(cache=True, nogil=True)
-def move_rows(T, src, dst, count):
-    """T[dst:dst + count] = T[src:src + count], forward: for dst < src, or
-    ranges apart (a part of move_rows_parallel's pieces)."""
-    for j in range(count):
-        T[u(dst + j)] = T[u(src + j)]
-
-
-def move_rows_parallel(T, src, dst, count, workers):
-    """move_rows on ``workers``: in pieces of at most ``src - dst`` entries,
-    one after the other, each split over the threads.  A piece's
-    destination lies below its own source and over pieces already moved,
-    so its parts never overwrite what another thread still reads::
-
-        T  [ dst ...... | piece 0 src | piece 1 src | ... )
-             piece 0 dst  piece 1 dst
-    """
-    gap = src - dst
-    start = 0
-    while gap > 0 and start < count:
-        piece = min(gap, count - start)
-        parts = [(start + a, start + b) for a, b in workers.chunks(piece)]
-        workers.map(parts, lambda c, lo, hi: move_rows(T, src + lo, dst + lo, hi - lo))
-        start += piece
+def _pieces(lo, hi, threads, down, first):
+    """The pieces of [lo, hi) for rows_high (``down``: from hi, each piece
+    [a, b) with a >= 2b - m, where m = hi, its rows landing at 3m + 3t >= 6b)
+    or rows_low (from lo, each [a, b) with b <= 2a, its rows landing below
+    6a): one piece on one thread; else a first one of ``first`` rows, then
+    pieces as long as all before them."""
+    if hi <= lo:
+        return []
+    if threads == 1:
+        return [(lo, hi)]
+    out = []
+    if down:
+        b = max(lo, hi - first)
+        out.append((b, hi))
+        while b > lo:
+            a = max(lo, 2 * b - hi)
+            out.append((a, b))
+            b = a
+    else:
+        a = min(hi, lo + first)
+        out.append((lo, a))
+        while a < hi:
+            b = min(hi, 2 * a)
+            out.append((a, b))
+            a = b
+    return out
 
 
 @njit(cache=True)

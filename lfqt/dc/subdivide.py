@@ -132,6 +132,45 @@ def subdivide_lfqt(gaps, lo, hi, ops, nops):
     return nops
 
 
+@njit(cache=True, nogil=True)
+def subdivide_next(gaps, i, hi, ops, stack, top):
+    """subdivide_lfqt's sweep in pieces, for merges that run each piece of
+    ops as it comes (lfqt.dc.state.State.merge_range) instead of holding
+    all 2n of them: the ops of positions from ``i`` on, up to ``hi``, written
+    from ops[0] while a position's pops and pushes still fit.  ``stack``
+    (2, STACK + 1) holds the open splits (row 0) and their bits (row 1),
+    ``top`` their count; a sweep starts at its first position with
+    ``top = -1``.  Returns (ops written, the next position, top): no ops
+    once the sweep is done."""
+    room = ops.shape[0] - STACK - 2  # a position's pops and two pushes fit past it
+    nops = 0
+    if top < 0:  # the first position: its vertex, over the sentinel
+        stack[1, 0] = DUP
+        top = 0
+        ops[0] = -(i + 1)
+        nops = 1
+        i += 1
+    while i < hi and nops <= room:
+        bit = np.int64(gaps[u(i)])
+        if bit != DUP:
+            while stack[1, u(top)] < bit:
+                ops[u(nops)] = stack[0, u(top)]
+                nops += 1
+                top -= 1
+            top += 1
+            stack[0, u(top)] = i
+            stack[1, u(top)] = bit
+            ops[u(nops)] = -(i + 1)
+            nops += 1
+        i += 1
+    if i >= hi and nops <= room:  # the splits left open close the range
+        while top > 0:
+            ops[u(nops)] = stack[0, u(top)]
+            nops += 1
+            top -= 1
+    return nops, i, top
+
+
 @njit(cache=True)
 def subdivide_top(khi, klo, wide, n, bin_size):
     """The upper levels of the quad-tree, split until a node holds at most
