@@ -11,7 +11,6 @@ import pytest
 import drivers
 import generators
 import lfqt
-from drivers import ours
 from drivers.exactness import describe, judge
 
 NEW_3D = ["gmsh-hxt", "gmsh-default", "tetgen", "lfqt-delaunay"]
@@ -94,15 +93,12 @@ def test_a_3d_peer_that_is_not_installed_says_how_to_install_it(monkeypatch):
         assert not m.ok and "is not installed" in m.detail
 
 
-def test_our_3d_peers_take_threads_exactly_when_insert_does(monkeypatch, rng):
+def test_our_3d_peers_pass_their_threads_on(monkeypatch, rng):
     real_insert, real_delaunay = lfqt.insert, lfqt.Delaunay
-    if not ours.insert_takes_threads():
-        with pytest.raises(ValueError, match="one thread"):
-            drivers.make("lfqt-insert-kdtree", threads=2)
     seen = []
 
-    def insert(points, *, threads=1, **kwargs):  # an insert that takes threads
-        seen.append(("insert", threads))
+    def insert(points, **kwargs):
+        seen.append(("insert", kwargs.get("threads")))
         return real_insert(points, **kwargs)
 
     def delaunay(points, **kwargs):
@@ -110,7 +106,6 @@ def test_our_3d_peers_take_threads_exactly_when_insert_does(monkeypatch, rng):
         return real_delaunay(points, **kwargs)
     monkeypatch.setattr(lfqt, "insert", insert)
     monkeypatch.setattr(lfqt, "Delaunay", delaunay)
-    assert ours.insert_takes_threads()
     pts = rng.random((500, 3))
     for name in ("lfqt-insert-kdtree", "lfqt-delaunay"):
         peer = drivers.make(name, threads=2)
