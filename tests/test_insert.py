@@ -126,6 +126,12 @@ def test_more_points_than_int32_cell_ids_allow_is_a_clear_error(monkeypatch):
     with pytest.raises(ValueError, match="at most 10 points"):
         lfqt.insert(np.random.default_rng(0).random((11, 3)))
     assert len(lfqt.insert(np.random.default_rng(0).random((10, 3))).simplices)
+    # 3D: 4 t + i must be an int32 for every tetrahedron a set may need
+    assert 7 * incremental.MAX_POINTS_3D <= tetra.MAX_CELLS and 4 * tetra.MAX_CELLS < 2 ** 31
+    monkeypatch.setattr(incremental, "MAX_POINTS_3D", 5)
+    with pytest.raises(ValueError, match="at most 5 3D points"):
+        lfqt.insert(np.random.default_rng(0).random((6, 3)))
+    assert len(lfqt.insert(np.random.default_rng(0).random((6, 2))).simplices)
 
 
 def test_more_cells_than_int32_ids_allow_is_a_clear_error():

@@ -24,12 +24,15 @@ _CYCLES = {"locate": "locate_cycles", "cavity": "cavity_cycles"}
 # Cell ids are int32 and the storage starts at kernel.CELLS_PER_POINT cells
 # per point (kernel.insert_all): more points would overflow the ids.
 MAX_POINTS = (2 ** 31 - 1) // kernel.CELLS_PER_POINT
+# 3D records name facets, 4 t + i in an int32: 2^29 - 1 tetrahedra, and a
+# random set makes 6.7 a point
+MAX_POINTS_3D = tetra.MAX_CELLS // 7
 
 
 def insert(points: npt.ArrayLike, *,
            order: orders.OrderName | tuple[npt.ArrayLike, npt.ArrayLike] = "kdtree",
            hint: orders.Hint | None = None, counters: bool = True, phase_times: bool = False,
-           seed: int = 0, threads: int = 1) -> Triangulation:
+           seed: int = 0, threads: int | None = 1) -> Triangulation:
     """Exact Delaunay triangulation of 2D or 3D points by incremental
     insertion (Bowyer–Watson) in a given order (Liu et al. 2013).
 
@@ -80,7 +83,7 @@ def insert(points: npt.ArrayLike, *,
         For points not of shape (n, 2) or (n, 3), NaN or inf, magnitudes
         beyond the kernels' window (lfqt._input), an unknown order or hint,
         an explicit order that is not a permutation with one hint per
-        point, or more than MAX_POINTS points.
+        point, more than MAX_POINTS points, or more than MAX_POINTS_3D in 3D.
     TypeError
         For points that are not real numbers.
 
@@ -107,6 +110,9 @@ def insert(points: npt.ArrayLike, *,
     if n > MAX_POINTS:
         raise ValueError(f"insert takes at most {MAX_POINTS} points (its cell ids are int32), "
                          f"got {n}; lfqt.triangulate has no such limit in 2D")
+    if d == 3 and n > MAX_POINTS_3D:
+        raise ValueError(f"insert takes at most {MAX_POINTS_3D} 3D points (its facet refs are "
+                         f"int32), got {n}")
     t1 = time.perf_counter()
     perm, hints, order_name, store, stored = _order(P, order, hint, seed, threads)
     t2 = time.perf_counter()
