@@ -111,6 +111,12 @@ class _Inserting(_Ours):
     bytes_per_point = 1200
     options = ("threads",)
 
+    def _take(self, points):
+        """Hold the points as float64 rows; their dimension is the peer's."""
+        self.points = np.ascontiguousarray(points, dtype=np.float64)
+        self.dim = self.points.shape[1]
+        self.tri = None
+
     def _warm_points(self, points):
         """The warm-up's points: on threads, past the points inserted alone,
         so that the lanes' kernels are loaded too."""
@@ -130,9 +136,7 @@ class LfqtInsert(_Inserting):
         self.threads = 1
 
     def prepare(self, points, order=None, count=False):
-        self.points = np.ascontiguousarray(points, dtype=np.float64)
-        self.dim = self.points.shape[1]
-        self.tri = None
+        self._take(points)
         warm = self._warm_points(self.points)
         _warmed(self, lambda: lfqt.insert(warm, order=self.order, threads=self.threads))
 
@@ -154,9 +158,7 @@ class LfqtDelaunay(_Inserting):
         self.threads = 1
 
     def prepare(self, points, order=None, count=False):
-        self.points = np.ascontiguousarray(points, dtype=np.float64)
-        self.dim = self.points.shape[1]
-        self.tri = None
+        self._take(points)
         # on points of its own: the input's first rows may be coplanar (a sorted
         # grid's are), where Delaunay raises and insert returns a flagged mesh
         rows = len(self._warm_points(self.points))

@@ -276,6 +276,13 @@ def _ask_for_walk_start(C, vcell, hint, t):
 
 
 @njit(cache=True, inline="always")
+def phase_cycles(counts, c_start, c_located):
+    """Count a point's walk (c_start to c_located) and cavity (on to now)."""
+    counts[LOCATE_CYCLES] += c_located - c_start
+    counts[CAVITY_CYCLES] += cycle_counter() - c_located
+
+
+@njit(cache=True, inline="always")
 def _commit(counts, pending):
     """Add a point's counts to the totals and clear them."""
     for k in range(N_PREDICATE):
@@ -348,8 +355,7 @@ def _insert_range(P, d, run, t0, cells, scratch, timing):
         _commit(counts, pending)
         state[LAST] = p
         if timing:
-            counts[LOCATE_CYCLES] += c_located - c_start
-            counts[CAVITY_CYCLES] += cycle_counter() - c_located
+            phase_cycles(counts, c_start, c_located)
     return n, 0
 
 
@@ -737,7 +743,8 @@ def finite_cells(C, N, mark, ids, records=None, shift=0, workers=None):
     else:
         flat = records.reshape(-1)
         simplices = flat[:finite * width].reshape(finite, width)
-    _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets, shift)
+    _cells_rows(C, N, mark, ids, bits, first, (simplices, neighbors, facets), shift,
+                (0, C.shape[0], 0, 0))
     if records is not None:
         simplices = workspace.keep_prefix(flat, finite * width).reshape(finite, width)
     return simplices, neighbors, facets
@@ -746,30 +753,21 @@ def finite_cells(C, N, mark, ids, records=None, shift=0, workers=None):
 @njit(cache=True)
 def _finite_bitmap(C, mark):
     """(bits, first, finite, live): a bit per cell, set for the live finite
-    ones, the finite cells before each word of 64, and the counts.  One
-    pass over the records, without a branch: a cell is finite when no
-    vertex is INF (-1), that is, when the OR of its vertices is not
-    negative (docs/performance.md, "finite bitmap")."""
-    m = C.shape[0]
-    width = C.shape[1]
-    nwords = (m + 63) >> 6
+    ones, the finite cells before each word of 64, and the counts
+    (_bitmap_words over all the words)."""
+    nwords = (C.shape[0] + 63) >> 6
     bits = np.empty(nwords, dtype=np.uint64)
     first = np.empty(nwords, dtype=np.int64)
-    k = 0
-    live = 0
-    for w in range(nwords):
-        word = np.uint64(0)
-        for c in range(64 * w, min(64 * w + 64, m)):
-            alive = np.int64(mark[u(c)] != DEAD)
-            vertices = C[u(c), 0] | C[u(c), 1] | C[u(c), 2]
-            if width == 4:
-                vertices |= C[u(c), 3]
-            live += alive
-            word |= np.uint64(alive & np.int64(vertices >= 0)) << np.uint64(c & 63)
-        bits[u(w)] = word
-        first[u(w)] = k
-        k += popcount(word)
-    return bits, first, k, live
+    finite, live = _bitmap_words(C, mark, bits, first, 0, nwords)
+    return bits, first, finite, live
+
+
+# Cells come in the order they were made, which follows the insertion order
+# across space, so the vertex ids of one cell and the next are far apart in
+# ``ids``: the cell OUTPUT_AHEAD rows on asks for two of its vertices' entries
+# (the third shares their cache lines, mostly; docs/performance.md,
+# "output prefetch").
+OUTPUT_AHEAD = 32
 
 
 def _finite_cells_parallel(C, N, mark, ids, shift, workers):
@@ -798,8 +796,11 @@ def _finite_cells_parallel(C, N, mark, ids, shift, workers):
 
 @njit(cache=True, nogil=True)
 def _bitmap_words(C, mark, bits, first, lo, hi):
-    """_finite_bitmap over the words [lo, hi): their bits, each word's
-    finite cells before it counted from lo; returns (finite, live) there."""
+    """The finite bitmap over the words [lo, hi): their bits, each word's
+    finite cells before it counted from lo; returns (finite, live) there.
+    One pass over the records, without a branch: a cell is finite when no
+    vertex is INF (-1), that is, when the OR of its vertices is not
+    negative (docs/performance.md, "finite bitmap")."""
     m = C.shape[0]
     width = C.shape[1]
     k = 0
@@ -821,8 +822,8 @@ def _bitmap_words(C, mark, bits, first, lo, hi):
 
 @njit(cache=True, nogil=True)
 def _cells_rows(C, N, mark, ids, bits, first, out, shift, span):
-    """_finite_cells over the cells span = (lo, hi, first row, first hull
-    facet)."""
+    """finite_cells' rows out = (simplices, neighbors, facets) of the cells
+    span = (lo, hi, their first row, their first hull facet)."""
     simplices, neighbors, facets = out
     lo, hi, j, n_inf = span
     width = C.shape[1]
@@ -841,34 +842,6 @@ def _cells_rows(C, N, mark, ids, bits, first, out, shift, span):
             neighbors[u(j), u(i)] = rank(bits, first, nb) if bit(bits, nb) else -1
         j += 1
 
-
-# Cells come in the order they were made, which follows the insertion order
-# across space, so the vertex ids of one cell and the next are far apart in
-# ``ids``: the cell OUTPUT_AHEAD rows on asks for two of its vertices' entries
-# (the third shares their cache lines, mostly; docs/performance.md,
-# "output prefetch").
-OUTPUT_AHEAD = 32
-
-
-@njit(cache=True)
-def _finite_cells(C, N, mark, ids, bits, first, simplices, neighbors, facets, shift):
-    m, width = C.shape
-    j = 0
-    n_inf = 0
-    for c in range(m):
-        ahead = min(c + OUTPUT_AHEAD, m - 1)
-        prefetch(ids, np.int64(C[u(ahead), 0]))  # a hint: INF (-1) does no harm
-        prefetch(ids, np.int64(C[u(ahead), 1]))
-        if not bit(bits, c):
-            if mark[u(c)] != DEAD:
-                _hull_facet(C, c, ids, facets, n_inf)
-                n_inf += 1
-            continue
-        for i in range(width):
-            simplices[u(j), u(i)] = ids[u(C[u(c), u(i)])]
-            nb = N[u(c), u(i)] >> shift
-            neighbors[u(j), u(i)] = rank(bits, first, nb) if bit(bits, nb) else -1
-        j += 1
 
 
 @njit(cache=True, inline="always")

@@ -44,14 +44,13 @@ import numpy as np
 from numba import njit
 
 from .. import workspace
-from ..workers import Workers
 from ..clock import cycle_counter
 from ..indexing import borrow, prefetch, u
-from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
-                                   N_INSERT, N_PREDICATE, ORIENT, tally)
+from ..predicates.counters import CONFLICTS, DUPLICATES, INCIRCLE, N_INSERT, N_PREDICATE, ORIENT, tally
 from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
+from ..workers import Workers
 from .kernel import (DEAD, INF, WALK_AHEAD, Insertion, _commit, _initial_simplex,
-                     _inside_facet_circle, statics)
+                     _inside_facet_circle, phase_cycles, statics)
 
 CELLS_PER_POINT = 8  # the records insert_all starts with (they double when full)
 MAX_CELLS = 2 ** 29 - 1  # 4 t + i is an int32
@@ -436,8 +435,7 @@ def _insert_lane(P, run, todo, k0, tets, dig, lane, seed, timing):
         _commit(counts, pending)
         state[LAST] = p
         if timing:
-            counts[LOCATE_CYCLES] += c_located - c_start
-            counts[CAVITY_CYCLES] += cycle_counter() - c_located
+            phase_cycles(counts, c_start, c_located)
     return m, 0
 
 
