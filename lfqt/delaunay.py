@@ -12,7 +12,7 @@ import numpy.typing as npt
 
 from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
-from .derived import extents, hyperplanes, plane_distances, transforms, vertex_neighbours
+from .derived import extents, hyperplanes, lift, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
 from .location import (TINY_SHIFT, coherent, curve_like, grid_order, in_frame, jump_sample,
                        locate_brute, locate_rational, locate_tiny, locate_tolerant, locate_walk,
@@ -346,9 +346,12 @@ class Delaunay:
     def lift_points(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Lift points onto the paraboloid: (..., ndim) -> (..., ndim+1)."""
         x = np.asarray(x, dtype=np.float64)
-        z = np.zeros(x.shape[:-1] + (x.shape[-1] + 1,))
-        z[..., :-1] = x
-        z[..., -1] = (x ** 2).sum(axis=-1) * self.paraboloid_scale + self.paraboloid_shift
+        z = np.empty(x.shape[:-1] + (x.shape[-1] + 1,))
+        if x.shape[-1] == 0 or z.size == 0:
+            z[...] = self.paraboloid_shift
+            return z
+        lift(np.ascontiguousarray(x.reshape(-1, x.shape[-1])), self.paraboloid_scale,
+             self.paraboloid_shift, z.reshape(-1, z.shape[-1]))
         return z
 
     def plane_distance(self, xi: npt.ArrayLike) -> npt.NDArray[np.float64]:

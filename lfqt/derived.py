@@ -35,6 +35,23 @@ def extents(P):
     return lo, hi, lifted
 
 
+@njit(cache=True, nogil=True)
+def lift(X, scale, shift, out):
+    """out = (X, |X|^2 * scale + shift) row by row, in one pass and in
+    scipy's order of operations (the squares summed from the first
+    coordinate, then scaled, then shifted), so that the values are
+    scipy's to the bit; numpy's sum over a short last axis is a strided
+    reduction, and the expression made three temporaries."""
+    n, d = X.shape
+    for k in range(n):
+        s = 0.0
+        for a in range(d):
+            x = X[k, a]
+            out[k, a] = x
+            s += x * x
+        out[k, d] = s * scale + shift
+
+
 @njit(cache=True, inline="always")
 def _inverse(T, d, out, t):
     """out[t, :d, :] = T^-1 (d = 2 or 3) by the adjugate; False when T is
