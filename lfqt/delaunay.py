@@ -12,15 +12,21 @@ import numpy.typing as npt
 
 from ._input import MIN_ULP_EXP, MIN_ULP_EXP_3D
 from .dc import triangulate
-from .derived import hyperplanes, plane_distances, transforms, vertex_neighbours
+from .derived import extents, hyperplanes, lift, plane_distances, transforms, vertex_neighbours
 from .incremental import insert
-from .location import (TINY_SHIFT, coherent, grid_order, in_frame, jump_sample, locate_brute,
-                       locate_rational, locate_tiny, locate_tolerant, locate_walk, simplex_boxes,
-                       split_queries, tiny_frame_ok, unframe, walk_frame)
+from .location import (TINY_SHIFT, coherent, curve_like, grid_order, in_frame, jump_sample,
+                       locate_brute, locate_rational, locate_tiny, locate_tolerant, locate_walk,
+                       simplex_boxes, split_queries, tiny_frame_ok, walk_frame)
 from .triangulation import DegenerateInputError, Triangulation
+from . import workspace
 from .workers import Workers
 
 _ERRORS = {}
+# A walk mesh this large (bytes) or less stays in the caches: queries in a row-major order
+# are walked as given (2D 100k points, a 1M grid: 0.10 s as given, 0.17 s sorted first);
+# above it only a curve's order is (location.curve_like, over CURVE_WINDOW rows).
+MESH_IN_CACHE = 8 << 20
+CURVE_WINDOW = 64
 
 
 def _degenerate_error(message):
@@ -189,62 +195,49 @@ class Delaunay:
             tri = insert(arr, **self._options)
         if tri.degenerate:
             raise _degenerate_error(f"cannot triangulate: {tri.reason}")
-        self._tri = tri
         self.points = np.ascontiguousarray(arr, dtype=np.float64)
         self.ndim = d
         self.npoints = len(self.points)
-        self.simplices = np.ascontiguousarray(tri.simplices, dtype=np.intc)
-        self.neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.intc)
-        self.nsimplex = len(self.simplices)
-        self.good = np.ones(self.nsimplex, dtype=np.intc)
-        self.min_bound = self.points.min(axis=0)
-        self.max_bound = self.points.max(axis=0)
-        self.paraboloid_scale, self.paraboloid_shift = self._paraboloid()
         self._exponent = int(tri.stats["scale_exponent"])
         self._scale = 2.0 ** self._exponent
-        self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
         self._cache = {}
-        self._located = 0  # queries walked so far (_walk_frame's trigger)
+        self._tri = tri
+        self.simplices = np.ascontiguousarray(tri.simplices, dtype=np.intc)
+        self.neighbors = np.ascontiguousarray(tri.neighbors, dtype=np.intc)
+        # What the walk and the per-simplex kernels read: the points in the order the
+        # simplices name them, in the location's frame (location.walk_frame), the same rows.
+        P2, S2 = walk_frame(self.points, self.simplices, self._scale)
+        self._mesh = (P2, S2, self.neighbors)
+        self._mesh_bytes = P2.nbytes + S2.nbytes + self.neighbors.nbytes
+        self.nsimplex = len(self.simplices)
+        self.good = np.ones(self.nsimplex, dtype=np.intc)
+        self.min_bound, self.max_bound, lifted = extents(self.points)
+        self.paraboloid_scale, self.paraboloid_shift = self._paraboloid(*lifted)
+        self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
 
-    def _paraboloid(self):
-        """Qhull's "Qbb" with scipy's "Qz": the lifted coordinates, with the
-        point at infinity's 1.1 times their maximum, are mapped to [0, max
-        |coordinate|] (scipy's formula from qh.last_low, last_high and
-        last_newhigh); 1 and 0 in incremental mode, where scipy drops Qbb."""
+    def _paraboloid(self, lo, top, largest):
+        """Qhull's "Qbb" with scipy's "Qz": the lifted coordinates (lowest
+        ``lo``, highest ``top``), with the point at infinity's 1.1 times
+        their maximum, are mapped to [0, ``largest`` |coordinate|] (scipy's
+        formula from qh.last_low, last_high and last_newhigh); 1 and 0 in
+        incremental mode, where scipy drops Qbb.  |x| near 1e155 and beyond
+        overflows the lift, as Qhull's."""
         if self._incremental:
             return 1.0, 0.0
-        with np.errstate(over="ignore"):  # |x| near 1e155 and beyond: Qhull's lift overflows too
-            lifted = (self.points ** 2).sum(axis=1)
-            lo, hi = lifted.min(), lifted.max() * 1.1
+        with np.errstate(over="ignore"):
+            hi = top * 1.1
         if not hi > lo:
             return 1.0, 0.0
-        scale = float(np.abs(self.points).max() / (hi - lo))
+        scale = float(largest / (hi - lo))
         return scale, float(-lo * scale)
 
     def _frame(self):
-        """The points in the location kernels' frame (the triangulation's
-        exact rescale), built on the first find_simplex, not with the mesh."""
+        """The points, in input order, in the location kernels' frame (the
+        triangulation's exact rescale), for lfqt.natural; built on first
+        use (the walk reads its own copy, along space: ``_mesh``)."""
         if self._exponent == 0:
             return self.points
         return self._cached("frame", lambda: self.points * self._scale)
-
-    def _walk_frame(self, queries):
-        """(P, S, N, order) the walk reads: the frame and the mesh (order
-        None), or, once the queries walked reach a quarter of the points,
-        the mesh renumbered along the curve (``location.walk_frame``:
-        vertices and simplices, whose rows ``order`` maps back), so that a
-        walk reads neighbouring memory instead of the input's order: about
-        half the walk's time on a 1M mesh (docs/performance.md, "location
-        frame"), for a copy of the points, the simplices and the
-        neighbours."""
-        self._located += queries
-        if "walk_frame" not in self._cache and 4 * self._located < self.npoints:
-            return self._frame(), self.simplices, self.neighbors, None
-
-        def build():
-            P = self._frame()
-            return walk_frame(P, self.simplices, self.neighbors, grid_order(P))
-        return self._cached("walk_frame", build)
 
     def _workers(self):
         """The build's thread count (None: every core, as lfqt.triangulate)."""
@@ -329,7 +322,7 @@ class Delaunay:
         to invert in floating point (1-norm condition number above
         1/(1000 eps), scipy's limit)."""
         return self._cached("transform", lambda: self._per_simplex(
-            (self.ndim + 1, self.ndim), transforms, self.points, self.simplices))
+            (self.ndim + 1, self.ndim), transforms, *self._mesh[:2], 1.0 / self._scale))
 
     @property
     def equations(self):
@@ -337,13 +330,16 @@ class Delaunay:
         hyperplane in the lifted space, normal pointing down (out of the
         lower hull), as Qhull's."""
         return self._cached("equations", lambda: self._per_simplex(
-            (self.ndim + 2,), hyperplanes, self.points, self.simplices,
+            (self.ndim + 2,), hyperplanes, *self._mesh[:2], 1.0 / self._scale,
             float(self.paraboloid_scale), float(self.paraboloid_shift)))
 
     def _per_simplex(self, shape, kernel, *args):
         """A (nsimplex, *shape) array filled by ``kernel(*args, out, lo,
-        hi)`` over ranges of simplices, on the triangulation's threads."""
-        out = np.empty((self.nsimplex,) + shape)
+        hi)`` over ranges of simplices, on the triangulation's threads, in
+        lfqt.workspace's memory (pages a freed array left, not fresh ones:
+        at 2D 1M a fresh transform's 48 MB faulted in took about a third of
+        its kernel's time)."""
+        out = workspace.empty((self.nsimplex,) + shape, np.float64)
         workers = self._workers()
         workers.map(workers.chunks(self.nsimplex), lambda c, lo, hi: kernel(*args, out, lo, hi))
         return out
@@ -351,9 +347,12 @@ class Delaunay:
     def lift_points(self, x: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Lift points onto the paraboloid: (..., ndim) -> (..., ndim+1)."""
         x = np.asarray(x, dtype=np.float64)
-        z = np.zeros(x.shape[:-1] + (x.shape[-1] + 1,))
-        z[..., :-1] = x
-        z[..., -1] = (x ** 2).sum(axis=-1) * self.paraboloid_scale + self.paraboloid_shift
+        z = np.empty(x.shape[:-1] + (x.shape[-1] + 1,))
+        if x.shape[-1] == 0 or z.size == 0:
+            z[...] = self.paraboloid_shift
+            return z
+        lift(np.ascontiguousarray(x.reshape(-1, x.shape[-1])), self.paraboloid_scale,
+             self.paraboloid_shift, z.reshape(-1, z.shape[-1]))
         return z
 
     def plane_distance(self, xi: npt.ArrayLike) -> npt.NDArray[np.float64]:
@@ -423,14 +422,15 @@ class Delaunay:
         workers = self._workers() if len(Q) > 4096 else Workers(1)
         chunks = workers.chunks(len(Q), min_chunk=4096)
         if bruteforce:
-            P, S = self._frame(), self.simplices
+            P, S, _ = self._mesh
             B = simplex_boxes(P, S)
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
             return out, at
-        P, S, N, rows = self._walk_frame(len(Q))
+        P, S, N = self._mesh
         jump = jump_sample(len(Q), len(S))
-        if coherent(Q):  # the caller's order is already one along space
+        if coherent(Q) and (self._mesh_bytes <= MESH_IN_CACHE or curve_like(Q, CURVE_WINDOW)):
+            # the caller's order is already one along space (or the mesh fits in the caches)
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at, jump))
         else:  # the queries gathered in curve order, so that the walks read and write in a run
             order = grid_order(Q)
@@ -438,8 +438,6 @@ class Delaunay:
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
                                                               jump))
             out[order], at[order] = found, last
-        if rows is not None:  # the walk frame's simplices, back to the mesh's rows
-            unframe(rows, out, at)
         return out, at
 
     def _locate_tolerant(self, q, tol, found, rows, start, near):
@@ -461,11 +459,11 @@ class Delaunay:
     def _locate_tiny(self, q, H, start):
         """Queries with a component below the frame's floor, exactly, from
         where the walk of their in-frame part H ended (lfqt.location)."""
-        S, N = self.simplices, self.neighbors
         if not tiny_frame_ok(self._exponent, self.ndim):
-            return np.array([locate_rational(self.points, S, N, x) for x in q], dtype=np.int64)
+            return np.array([locate_rational(self.points, self.simplices, self.neighbors, x)
+                             for x in q], dtype=np.int64)
         Ls = np.where(H == 0.0, np.ldexp(q, self._exponent + TINY_SHIFT), 0.0)
-        return locate_tiny(self._frame(), S, N, H, Ls, start)
+        return locate_tiny(*self._mesh, H, Ls, start)
 
     # -- incremental mode -------------------------------------------------
 

@@ -3,12 +3,53 @@ definitions and floating point: barycentric transforms, the lifted
 hyperplanes (``equations``), and the vertex adjacency in CSR form.
 
 Each is one pass over the simplices, computed on first access (scipy builds
-``equations`` with the mesh; we build it only when asked).
+``equations`` with the mesh; we build it only when asked), reading the mesh
+stored along space (lfqt.location.walk_frame), whose corners lie close in
+memory.
 """
 import numpy as np
 from numba import njit
 
 COND_LIMIT = 1.0 / (1000.0 * np.finfo(np.float64).eps)  # scipy's: 3 significant digits left
+
+
+@njit(cache=True, nogil=True)
+def extents(P):
+    """(lowest, highest coordinate per axis, [lowest |x|^2, highest |x|^2,
+    largest |coordinate|]) of the rows of P in one pass: the bounding box
+    and what Qhull's paraboloid scaling reads (numpy's reductions over the
+    short axis took about 20 times as long at 1M points)."""
+    n, d = P.shape
+    lo, hi = P[0].copy(), P[0].copy()
+    lifted = np.array([np.inf, -np.inf, 0.0])
+    for k in range(n):
+        s = 0.0
+        for a in range(d):
+            x = P[k, a]
+            lo[a] = min(lo[a], x)
+            hi[a] = max(hi[a], x)
+            lifted[2] = max(lifted[2], abs(x))
+            s += x * x
+        lifted[0] = min(lifted[0], s)
+        lifted[1] = max(lifted[1], s)
+    return lo, hi, lifted
+
+
+@njit(cache=True, nogil=True)
+def lift(X, scale, shift, out):
+    """out = (X, |X|^2 * scale + shift) row by row, in one pass and in
+    scipy's order of operations (the squares summed from the first
+    coordinate, then scaled, then shifted), so that the values are
+    scipy's to the bit; numpy's sum over a short last axis is a strided
+    reduction, and the expression made three temporaries."""
+    n, d = X.shape
+    for k in range(n):
+        s = 0.0
+        for a in range(d):
+            x = X[k, a]
+            out[k, a] = x
+            s += x * x
+        out[k, d] = s * scale + shift
 
 
 @njit(cache=True, inline="always")
@@ -53,20 +94,22 @@ def _inverse(T, d, out, t):
 
 
 @njit(cache=True, nogil=True)
-def transforms(P, S, out, lo, hi):
+def transforms(P, S, unscale, out, lo, hi):
     """out[lo:hi] of (m, d+1, d): rows :d hold T^-1 and row d holds r, for
     T c = x - r with T's columns x_j - r and r the simplex's last vertex
-    (scipy's ``transform``); NaN in T^-1 where T is too ill-conditioned."""
+    (scipy's ``transform``); NaN in T^-1 where T is too ill-conditioned.
+    The points are P * unscale (a power of two: exact), so that P may be
+    the location's frame."""
     d = S.shape[1] - 1
     T = np.empty((d, d))
     for t in range(lo, hi):
         r = S[t, d]
         for a in range(d):
-            out[t, d, a] = P[r, a]
+            out[t, d, a] = P[r, a] * unscale
         for j in range(d):
             v = S[t, j]
             for a in range(d):
-                T[a, j] = P[v, a] - P[r, a]
+                T[a, j] = P[v, a] * unscale - P[r, a] * unscale
         if not _inverse(T, d, out, t):
             for i in range(d):
                 for a in range(d):
@@ -74,24 +117,25 @@ def transforms(P, S, out, lo, hi):
 
 
 @njit(cache=True, inline="always")
-def _lift(P, v, scale, shift):
-    x, y = P[v, 0], P[v, 1]
+def _lift(P, v, unscale, scale, shift):
+    x, y = P[v, 0] * unscale, P[v, 1] * unscale
     if P.shape[1] == 2:
         return x, y, 0.0, (x * x + y * y) * scale + shift
-    z = P[v, 2]
+    z = P[v, 2] * unscale
     return x, y, z, (x * x + y * y + z * z) * scale + shift
 
 
 @njit(cache=True, nogil=True)
-def hyperplanes(P, S, scale, shift, out, lo, hi):
+def hyperplanes(P, S, unscale, scale, shift, out, lo, hi):
     """out[lo:hi] of (m, d+2): unit normal and offset of each simplex's
     plane through its lifted vertices (x, |x|^2 * scale + shift), the normal
-    pointing down (last component < 0), as Qhull's ``equations``."""
+    pointing down (last component < 0), as Qhull's ``equations``; the
+    points are P * unscale, as in ``transforms``."""
     d = S.shape[1] - 1
     for t in range(lo, hi):
-        ax, ay, az, aw = _lift(P, S[t, 0], scale, shift)
-        bx, by, bz, bw = _lift(P, S[t, 1], scale, shift)
-        cx, cy, cz, cw = _lift(P, S[t, 2], scale, shift)
+        ax, ay, az, aw = _lift(P, S[t, 0], unscale, scale, shift)
+        bx, by, bz, bw = _lift(P, S[t, 1], unscale, scale, shift)
+        cx, cy, cz, cw = _lift(P, S[t, 2], unscale, scale, shift)
         ux, uy, uz, uw = bx - ax, by - ay, bz - az, bw - aw
         vx, vy, vz, vw = cx - ax, cy - ay, cz - az, cw - aw
         if d == 2:  # the cross product of the two edges in (x, y, lift)
@@ -102,7 +146,7 @@ def hyperplanes(P, S, scale, shift, out, lo, hi):
             norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
             last = n2
         else:  # the generalised cross product of three edges in 4D: signed 3x3 minors
-            dx, dy, dz, dw = _lift(P, S[t, 3], scale, shift)
+            dx, dy, dz, dw = _lift(P, S[t, 3], unscale, scale, shift)
             wx, wy, wz, ww = dx - ax, dy - ay, dz - az, dw - aw
             n0 = uy * (vz * ww - vw * wz) - uz * (vy * ww - vw * wy) + uw * (vy * wz - vz * wy)
             n1 = -(ux * (vz * ww - vw * wz) - uz * (vx * ww - vw * wx) + uw * (vx * wz - vz * wx))

@@ -240,65 +240,40 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
 
 
 @njit(cache=True, nogil=True)
-def walk_frame(P, S, N, perm):
-    """(P2, S2, N2, order): the mesh renumbered for the walk, vertices in
-    the order ``perm`` (a curve over the points: ``grid_order``) and
-    simplices sorted by their lowest new vertex number (a counting sort),
-    so that a walk between neighbouring queries reads neighbouring memory
-    for the corners, the simplices and their neighbours alike.  Simplex r
-    of the new frame is simplex order[r] of the mesh, with the same vertex
-    slots.  On a 1M-point mesh the triangles' own order (the build's) left
-    consecutive rows about a thousand vertices apart, and the walk waited
-    on memory (docs/performance.md, "location step and frame, second pass")."""
-    n = perm.shape[0]
+def walk_frame(P, S, scale):
+    """(P2, S2): the mesh's points, times ``scale`` (the location's frame,
+    exact: a power of two), in the order the simplices first name them, and
+    the simplices (same rows, same slots) in that numbering, so that a walk
+    between neighbouring queries, and a pass over the simplices, read the
+    corners of neighbouring simplices from neighbouring memory.  The simplices' own order is the build's, which follows space
+    (the divide and conquer's merges along the Morton curve, the insertion's
+    Kd order), and one pass gives the numbering: no sort, and the rows stay
+    the object's, neighbours included.  P2 holds only the points the
+    simplices use.  Sorting the points along a curve and the simplices by
+    their lowest vertex made the walk about a quarter faster and cost as
+    much as the triangulation itself (docs/performance.md, "mesh along
+    space")."""
+    n = P.shape[0]
     m, k1 = S.shape
-    inv = np.empty(n, dtype=S.dtype)  # the narrow dtypes: these arrays are read at random
-    P2 = np.empty((n, P.shape[1]))
-    for i in range(n):
-        v = perm[i]
-        inv[v] = i
+    new = np.full(n, -1, dtype=S.dtype)  # the narrow dtype: read at random
+    old = np.empty(n, dtype=np.int64)
+    S2 = np.empty_like(S)
+    used = 0
+    for t in range(m):
+        for j in range(k1):
+            v = S[t, j]
+            w = new[v]
+            if w < 0:
+                w = used
+                new[v] = w
+                old[w] = v
+                used += 1
+            S2[t, j] = w
+    P2 = np.empty((used, P.shape[1]))
+    for i in range(used):
         for a in range(P.shape[1]):
-            P2[i, a] = P[v, a]
-    start = np.zeros(n + 1, dtype=np.int64)
-    S2 = np.empty_like(S)  # first the new vertex numbers in the old rows
-    for t in range(m):
-        low = n
-        for j in range(k1):
-            v = inv[S[t, j]]
-            S2[t, j] = v
-            low = min(low, v)
-        start[low + 1] += 1
-    for v in range(n):
-        start[v + 1] += start[v]
-    order = np.empty(m, dtype=N.dtype)
-    rank = np.empty(m, dtype=N.dtype)
-    for t in range(m):
-        low = S2[t, 0]
-        for j in range(1, k1):
-            low = min(low, S2[t, j])
-        r = start[low]
-        start[low] = r + 1
-        order[r] = t
-        rank[t] = r
-    S3 = np.empty_like(S)
-    N2 = np.empty_like(N)
-    for t in range(m):  # rows written at random, read in a run
-        r = rank[t]
-        for j in range(k1):
-            S3[r, j] = S2[t, j]
-            u = N[t, j]
-            N2[r, j] = rank[u] if u >= 0 else -1
-    return P2, S3, N2, order
-
-
-@njit(cache=True, nogil=True)
-def unframe(order, out, last):
-    """The answers and last simplices of a walk in a ``walk_frame``, in
-    place, as the mesh's rows (-1 stays)."""
-    for k in range(out.shape[0]):
-        if out[k] >= 0:
-            out[k] = order[out[k]]
-        last[k] = order[last[k]]
+            P2[i, a] = P[old[i], a] * scale
+    return P2, S2
 
 
 def jump_sample(queries, simplices):
@@ -385,9 +360,11 @@ def coherent(Q):
     """True when the rows of Q already follow each other in space (a caller
     sorted them, or they come from a grid): then the walk takes them in the
     caller's order, and sorting them again would cost more than it saves.
-    The test, on a sample of consecutive pairs spread over Q: the median
+    The test, on a sample of consecutive pairs spread over Q: the mean
     step is within a few cells of a grid of one query per cell over the
-    sample's box."""
+    sample's box (the mean, not the median: the queries of a grid that lie
+    outside the hull, in row order, alternate between the box's faces, and
+    half their steps cross it)."""
     n, d = Q.shape
     if n < 64:
         return True
@@ -406,7 +383,37 @@ def coherent(Q):
     cell = 0.0
     for a in range(d):
         cell += (hi[a] - lo[a]) / n ** (1.0 / d)
-    return np.median(gap) <= 4.0 * cell
+    return gap.mean() <= 4.0 * cell
+
+
+@njit(cache=True, nogil=True)
+def curve_like(Q, window):
+    """True when the rows of Q stay close over ``window`` rows too, as
+    along a space-filling curve (within a few times window**(1/d) cells of
+    a grid of one query per cell, at the median of a sample), not only
+    from row to row: a row-major grid is ``coherent`` but sweeps each row across the
+    box, and on a mesh larger than the caches its walk reads a new part of
+    memory at every step (3D 300k points, a 1M grid: 1.40 s in row order,
+    0.95 s sorted first; docs/performance.md, "mesh along space")."""
+    n, d = Q.shape
+    if n < 4 * window:
+        return True
+    pairs = min(n - window, 1024)
+    stride = (n - window) // pairs
+    gap = np.empty(pairs)
+    lo, hi = Q[0].copy(), Q[0].copy()
+    for j in range(pairs):
+        k = j * stride
+        s = 0.0
+        for a in range(d):
+            s += abs(Q[k + window, a] - Q[k, a])
+            lo[a] = min(lo[a], Q[k, a])
+            hi[a] = max(hi[a], Q[k, a])
+        gap[j] = s
+    cell = 0.0  # the largest axis's: a row moves along one axis only
+    for a in range(d):
+        cell = max(cell, (hi[a] - lo[a]) / n ** (1.0 / d))
+    return np.median(gap) <= 4.0 * cell * window ** (1.0 / d)
 
 
 def grid_order(Q):

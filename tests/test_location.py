@@ -205,18 +205,22 @@ def test_tolerance_never_answers_a_simplex_too_flat_for_its_transform(dim):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_walk_frame_is_the_mesh_renumbered(dim, rng):
-    """The walk's frame holds the same simplices, slot for slot, with its
-    vertices in the curve's order and its rows sorted by lowest vertex;
-    its neighbours are the mesh's, renumbered."""
-    pts = rng.random((500, dim))
+    """The walk's mesh holds the same simplices, row for row and slot for
+    slot, in points numbered in the order the rows first name them, scaled
+    into the location's frame; lfqt.Delaunay walks on it with its own
+    neighbours."""
+    pts = np.r_[rng.random((500, dim)), rng.random((20, dim))]
+    pts[-20:] = pts[:20]  # duplicates: rows no simplex names
+    tri = lfqt.triangulate(pts) if dim == 2 else lfqt.insert(pts)
+    P, S = location.walk_frame(pts, tri.simplices, 4.0)
+    assert len(P) == tri.n_distinct
+    assert np.array_equal(P[S], 4.0 * pts[tri.simplices])
+    first = np.unique(S.ravel(), return_index=True)[1]
+    assert np.all(np.diff(first) > 0)  # numbered in the order of first appearance
     d = _built(pts)
-    perm = location.grid_order(d.points)
-    P, S, N, order = location.walk_frame(d.points, d.simplices, d.neighbors, perm)
-    assert np.array_equal(P, d.points[perm])
-    assert np.array_equal(np.sort(order), np.arange(d.nsimplex))
-    assert np.array_equal(perm[S], d.simplices[order])
-    assert np.all(np.diff(S.min(axis=1)) >= 0)
-    assert np.array_equal(np.where(N < 0, -1, order[np.maximum(N, 0)]), d.neighbors[order])
+    P2, S2, N2 = d._mesh
+    assert np.array_equal(P2[S2], d.points[d.simplices] * 2.0 ** d.stats["scale_exponent"])
+    assert N2 is d.neighbors
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -233,7 +237,6 @@ def test_coherent_queries_on_a_grid_mesh_answer_exactly(dim):
     qs = np.stack([g.ravel() for g in np.meshgrid(*fine, indexing="ij")], axis=1)
     assert location.coherent(qs)
     in_order = d.find_simplex(qs)
-    assert "walk_frame" in d._cache
     _check(pts, d, qs, in_order)
     shuffle = np.random.default_rng(1).permutation(len(qs))
     shuffled = np.empty_like(in_order)
