@@ -113,11 +113,17 @@ def _conflicts(P, R, y, p, span, static):
 
 @njit(cache=True, inline="always")
 def _ours(part, v):
-    """Is vertex v in the lane's part: (owner, lane) with owner[v] the
-    lane of each vertex, or lane -1 for all of them.  INF belongs to every
-    part."""
-    owner, lane = part
-    return lane < 0 or v < 0 or owner[u(v)] == lane
+    """Is vertex v in the lane's part: part = (x, lo, hi, lane), the slab
+    lo <= x[v] < hi of a coordinate x, or, when lo > hi, the rest of the
+    line; lane -1 for every vertex.  INF belongs to every part.  The test
+    reads v's coordinate, which the walk or the cavity has read anyway."""
+    x, lo, hi, lane = part
+    if lane < 0 or v < 0:
+        return True
+    c = x[u(v)]
+    if lo <= hi:
+        return lo <= c < hi
+    return c >= lo or c < hi
 
 
 @njit(cache=True, inline="always")
@@ -545,20 +551,34 @@ def _run_beside(P, run, todo, tets, dig, lane, seed, timing):
 
 
 @njit(cache=True)
-def _split(perm, todo, owner, lanes):
-    """The lists of the lanes: todo's positions by their point's owner,
-    each in todo's order; returns (order, starts)."""
+def _split(perm, todo, x, cuts):
+    """The lists of the lanes: todo's positions by the slab of their
+    point's coordinate x (_slab), each in todo's order; returns (order,
+    starts)."""
+    lanes = cuts.shape[0]
     count = np.zeros(lanes + 1, dtype=np.int64)
+    which = np.empty(todo.shape[0], dtype=np.int64)
     for k in range(todo.shape[0]):
-        count[owner[perm[todo[k]]] + 1] += 1
+        which[k] = _slab(x[perm[todo[k]]], cuts)
+        count[which[k] + 1] += 1
     starts = np.cumsum(count)
     fill = starts[:-1].copy()
     order = np.empty(todo.shape[0], dtype=todo.dtype)
     for k in range(todo.shape[0]):
-        j = owner[perm[todo[k]]]
-        order[fill[j]] = todo[k]
-        fill[j] += 1
+        order[fill[which[k]]] = todo[k]
+        fill[which[k]] += 1
     return order, starts
+
+
+@njit(cache=True, inline="always")
+def _slab(c, cuts):
+    """The lane of coordinate c: lane j's slab is [cuts[j], cuts[j + 1]),
+    and the last lane's the rest (cuts[0] is -inf); _ours agrees."""
+    lanes = cuts.shape[0]
+    for k in range(lanes - 1):
+        if cuts[k] <= c < cuts[k + 1]:
+            return k
+    return lanes - 1
 
 
 @njit(cache=True)
@@ -583,32 +603,16 @@ def _reset_marks(mark, m):
             mark[c] = 0
 
 
-@njit(cache=True)
-def _owners(P, axis, cuts, owner):
-    """owner[v]: the lane whose slab of coordinate ``axis`` holds point v,
-    lane j's slab [cuts[j], cuts[j + 1]) and the last lane's also below
-    cuts[0] (the second pass's slabs straddle the first's borders)."""
-    lanes = cuts.shape[0]
-    for v in range(P.shape[0]):
-        x = P[v, axis]
-        j = lanes - 1
-        for k in range(lanes - 1):
-            if cuts[k] <= x < cuts[k + 1]:
-                j = k
-        owner[v] = j
+SAMPLE = 4096  # a pass's slab borders are quantiles of this many of its points
 
 
-def _slabs(P, perm, todo, lanes, shift):
-    """(axis, cuts): slabs across the longest side of todo's points'
-    bounding box holding equal shares of them, moved by ``shift`` of a
-    slab."""
-    pts = P[perm[todo]]
-    axis = int(np.argmax(pts.max(axis=0) - pts.min(axis=0)))
-    q = (np.arange(lanes) + shift) / lanes
-    cuts = np.quantile(pts[:, axis], q)
-    if shift == 0:
-        cuts[0] = -np.inf
-    return axis, cuts
+def _slabs(P, perm, todo, axis, lanes):
+    """Slab borders along ``axis`` holding equal shares of todo's points
+    (quantiles of a sample of them; _slab)."""
+    sample = todo[::max(1, len(todo) // SAMPLE)]
+    cuts = np.quantile(P[perm[sample], axis], np.arange(lanes) / lanes)
+    cuts[0] = -np.inf
+    return cuts
 
 
 SEQUENTIAL = 1 << 14  # points inserted alone first: a coarse mesh leaves lanes little room
@@ -644,8 +648,13 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
     used = _start(P, s, tets)
     run = Run(perm, hint, pick, dup_of, span, statics(P, 3))
     dig = _new_dig(np.int64(256), np.empty(n, dtype=np.int32))
+    # the lanes' slabs cross the longest side of the points' box, then the
+    # next longest
+    axes = [int(a) for a in np.argsort(P.max(axis=0) - P.min(axis=0))[::-1][:2]]
+    axis = axes[0]
     alone = Lane(np.array([used, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
-                 workspace.empty(cap, np.int32), counts, (np.zeros(1, dtype=np.int16), np.int64(-1)),
+                 workspace.empty(cap, np.int32), counts, (P[:, axis], -np.inf, np.inf,
+                                                          np.int64(-1)),
                  np.empty(0, dtype=np.int64))
     rounds = _rounds(n, threads, SEQUENTIAL if first is None else first)
     todo = np.arange(rounds[0][1], dtype=np.int64)
@@ -653,9 +662,14 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
     left = np.empty(0, dtype=np.int64)
     for lo, hi in rounds[1:]:
         todo = np.concatenate((left, np.arange(lo, hi, dtype=np.int64)))
-        for shift in (0.0, 0.5):
-            tets, alone, todo = _parallel_pass(P, run, todo, tets, alone, dig.vid, threads, shift,
-                                               timing)
+        # both passes' slabs from the round's points (the deferred ones
+        # crowd along the first pass's borders), the second's across the
+        # first's: only the points near where their borders cross are left
+        round_todo = todo
+        for a in axes:
+            cuts = _slabs(P, run.perm, round_todo, a, threads)
+            tets, alone, todo = _parallel_pass(P, run, todo, tets, alone, dig.vid,
+                                               (threads, a, cuts), timing)
         left = todo
     tets, dig, alone = _run_alone(P, run, left, tets, dig, alone, max_cells, timing)
     m = alone.state[NEXT]
@@ -676,17 +690,16 @@ def _rounds(n, threads, alone):
     return out
 
 
-def _parallel_pass(P, run, todo, tets, alone, vid, threads, shift, timing):
-    """Insert todo's points in ``threads`` lanes, with parts of equal
-    shares of them moved by ``shift`` of a part; returns (tets, alone, the
-    points deferred, in order)."""
+def _parallel_pass(P, run, todo, tets, alone, vid, lanes, timing):
+    """Insert todo's points in lanes = (threads, axis, cuts), in the slabs
+    of ``axis`` that cuts borders (_slab); returns (tets, alone, the points
+    deferred, in order)."""
+    threads, axis, cuts = lanes
     state = alone.state
     if len(todo) == 0:
         return tets, alone, todo
-    axis, cuts = _slabs(P, run.perm, todo, threads, shift)
-    owner = np.empty(P.shape[0], dtype=np.int16)
-    _owners(P, axis, cuts, owner)
-    order, starts = _split(run.perm, todo, owner, threads)
+    x = P[:, axis]
+    order, starts = _split(run.perm, todo, x, cuts)
     sizes = np.diff(starts)
     # fresh records (LANE_RECORDS), less the shared free list's, dealt out evenly
     nfree = int(state[NFREE])
@@ -716,7 +729,8 @@ def _parallel_pass(P, run, todo, tets, alone, vid, threads, shift, timing):
         lane_state = np.array([start, start + fresh[k], len(own), state[STAMP] + 2 * k,
                                2 * threads, state[LAST], 0], dtype=np.int64)
         start += fresh[k]
-        part = (owner, np.int64(k))
+        part = (x, float(cuts[k]), float(cuts[k + 1] if k + 1 < threads else cuts[0]),
+                np.int64(k))
         lanes.append(Lane(lane_state, free, np.zeros(N_INSERT, dtype=np.int64), part,
                           np.empty(int(sizes[k]), dtype=np.int64)))
     state[NEXT] = start
