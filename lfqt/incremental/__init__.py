@@ -61,9 +61,9 @@ def insert(points: npt.ArrayLike, *,
     threads : int
         3D: insert on this many threads (None: one per core).  After the
         first points, the order goes in rounds, each point by the thread
-        that owns its part of space; a point whose cavity crosses into
-        another part is retried with the parts moved, or inserted alone at
-        the end.  The tetrahedra are the same on every thread count where
+        that owns its slab of space; a point whose cavity crosses into
+        another slab is retried in slabs across the next longest side, or
+        inserted alone at the end.  The tetrahedra are the same on every thread count where
         the Delaunay tetrahedralization is unique, and the same run to run
         for a given count otherwise; the counts are those of that
         insertion, not the order's alone.  2D: ignored (``triangulate`` is

@@ -629,9 +629,9 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
     whose N holds neighbour refs (4 t + i: decode with ``>> 2``), as
     kernel.insert_all does for 2D points (its parameters).  ``threads``
     above 1: after the first SEQUENTIAL points, rounds of the order in
-    lanes (_insert_lane), each in its own part of space, the points a lane
-    cannot take retried with the parts moved, and the rest alone at the
-    end.  ``first``: the points inserted alone first (SEQUENTIAL by
+    lanes (_insert_lane), each in its own slab of space, the points a lane
+    cannot take retried in slabs across the next longest side, and the
+    rest alone at the end.  ``first``: the points inserted alone first (SEQUENTIAL by
     default)."""
     n = P.shape[0]
     cap = min(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), max_cells)
