@@ -137,11 +137,21 @@ def _step2(P, S, t, qx, qy):
         d0, _ = orient2d_staged(bx, by, cx, cy, qx, qy, CCW_A)
         d1, _ = orient2d_staged(cx, cy, ax, ay, qx, qy, CCW_A)
         d2, _ = orient2d_staged(ax, ay, bx, by, qx, qy, CCW_A)
+    return _most_beyond(d0, d1, d2, np.inf)
+
+
+@njit(cache=True, inline="always")
+def _most_beyond(d0, d1, d2, d3):
+    """The corner whose opposite facet q lies farthest beyond (the most
+    negative of the orientations d0..d3, the first of equal ones), or -1
+    when q lies beyond none; a triangle passes d3 = inf."""
     i, low = 0, d0
     if d1 < low:
         i, low = 1, d1
     if d2 < low:
         i, low = 2, d2
+    if d3 < low:
+        i, low = 3, d3
     return i if low < 0.0 else -1
 
 
@@ -180,14 +190,7 @@ def _step3(P, S, t, qx, qy, qz):
         d1, _ = orient3d_staged((ax, ay, az), (qx, qy, qz), (cx, cy, cz), (dx, dy, dz), O3D_A)
         d2, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (qx, qy, qz), (dx, dy, dz), O3D_A)
         d3, _ = orient3d_staged((ax, ay, az), (bx, by, bz), (cx, cy, cz), (qx, qy, qz), O3D_A)
-    i, low = 0, d0
-    if d1 < low:
-        i, low = 1, d1
-    if d2 < low:
-        i, low = 2, d2
-    if d3 < low:
-        i, low = 3, d3
-    return i if low < 0.0 else -1
+    return _most_beyond(d0, d1, d2, d3)
 
 
 @njit(cache=True, nogil=True)
@@ -355,6 +358,27 @@ def in_frame(q, lo, hi, floor):
     return ok
 
 
+@njit(cache=True, inline="always")
+def _sampled_steps(Q, window):
+    """(steps, lo, hi) of coherent and curve_like: the L1 steps from rows
+    k to k + window at up to 1024 k spread over Q, and the box of those
+    rows k."""
+    n, d = Q.shape
+    pairs = min(n - window, 1024)
+    stride = (n - window) // pairs
+    gap = np.empty(pairs)
+    lo, hi = Q[0].copy(), Q[0].copy()
+    for j in range(pairs):
+        k = j * stride
+        s = 0.0
+        for a in range(d):
+            s += abs(Q[k + window, a] - Q[k, a])
+            lo[a] = min(lo[a], Q[k, a])
+            hi[a] = max(hi[a], Q[k, a])
+        gap[j] = s
+    return gap, lo, hi
+
+
 @njit(cache=True, nogil=True)
 def coherent(Q):
     """True when the rows of Q already follow each other in space (a caller
@@ -368,18 +392,7 @@ def coherent(Q):
     n, d = Q.shape
     if n < 64:
         return True
-    pairs = min(n - 1, 1024)
-    stride = (n - 1) // pairs
-    gap = np.empty(pairs)
-    lo, hi = Q[0].copy(), Q[0].copy()
-    for j in range(pairs):
-        k = j * stride
-        s = 0.0
-        for a in range(d):
-            s += abs(Q[k + 1, a] - Q[k, a])
-            lo[a] = min(lo[a], Q[k, a])
-            hi[a] = max(hi[a], Q[k, a])
-        gap[j] = s
+    gap, lo, hi = _sampled_steps(Q, 1)
     cell = 0.0
     for a in range(d):
         cell += (hi[a] - lo[a]) / n ** (1.0 / d)
@@ -398,18 +411,7 @@ def curve_like(Q, window):
     n, d = Q.shape
     if n < 4 * window:
         return True
-    pairs = min(n - window, 1024)
-    stride = (n - window) // pairs
-    gap = np.empty(pairs)
-    lo, hi = Q[0].copy(), Q[0].copy()
-    for j in range(pairs):
-        k = j * stride
-        s = 0.0
-        for a in range(d):
-            s += abs(Q[k + window, a] - Q[k, a])
-            lo[a] = min(lo[a], Q[k, a])
-            hi[a] = max(hi[a], Q[k, a])
-        gap[j] = s
+    gap, lo, hi = _sampled_steps(Q, window)
     cell = 0.0  # the largest axis's: a row moves along one axis only
     for a in range(d):
         cell = max(cell, (hi[a] - lo[a]) / n ** (1.0 / d))
