@@ -84,3 +84,47 @@ def test_a_fork_during_the_preload_waits_for_it_and_the_child_works():
         print(alive, os.waitstatus_to_exitcode(status))
     """, timeout=300)
     assert out.split() == ["False", "0"]
+
+
+def test_a_running_call_holds_the_preload_at_its_next_step_and_it_goes_on_after():
+    out = _run("""
+        import os
+        import time
+        import lfqt
+        from lfqt import calls, preload
+
+        def three_d():
+            return sum(len(v) for k, v in loaded().items() if k.startswith("lfqt.incremental.tetra"))
+
+        @calls.entry
+        def a_long_call():  # as a triangulation that starts right after the import
+            time.sleep(3.0)
+            nice = os.getpriority(os.PRIO_PROCESS, preload._thread.native_id)
+            return three_d(), preload._thread.is_alive(), nice
+
+        during, alive, nice = a_long_call()
+        preload.wait()
+        print(during, alive, nice, three_d() > 0)
+    """)
+    assert out.split() == ["0", "True", "19", "True"], out
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_a_fork_from_inside_a_call_does_not_wait_for_the_preload_that_waits_for_it():
+    out = _run("""
+        import os
+        import numpy as np
+        import lfqt
+        from lfqt import calls, preload
+
+        @calls.entry
+        def forks():
+            pid = os.fork()
+            if pid == 0:
+                pts = np.random.default_rng(1).random((500, 2))
+                os._exit(0 if lfqt.verify(pts, lfqt.triangulate(pts)).ok else 3)
+            return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+
+        print(forks(), preload._thread.is_alive())
+    """, timeout=300)
+    assert out.split() == ["0", "False"], out

@@ -16,7 +16,7 @@ from typing import Any, Literal, NamedTuple, get_args
 import numpy as np
 import numpy.typing as npt
 
-from .. import morton, radix, workspace
+from .. import calls, morton, radix, workspace
 from .._input import FORMATS, exact_floats2d, exponent_for, index_dtype, magnitudes
 from ..indexing import iota
 from ..predicates.counters import as_dict, new_counters, per_point
@@ -38,6 +38,7 @@ METHODS: tuple[Method, ...] = get_args(Method)
 LEAF_SIZE = 1024  # keys per bin of the hybrid method (see experiments.hybrid)
 
 
+@calls.entry
 def triangulate(points: npt.ArrayLike, *, threads: int | np.integer[Any] | None = 1,
                 subdivision: Subdivision = "lfqt", counters: bool = True,
                 filter: Filter = "level", schedule: Schedule = "tasks", method: Method = "dc",

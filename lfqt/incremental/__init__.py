@@ -9,7 +9,7 @@ from collections import namedtuple
 import numpy as np
 import numpy.typing as npt
 
-from .. import orders
+from .. import calls, orders
 from .._input import exact_points, index_dtype
 from ..clock import cycles_per_second
 from ..predicates.counters import DUPLICATES, NAMES, N_INSERT, ORIENT_S1, ORIENT_S2, per_point
@@ -29,6 +29,7 @@ MAX_POINTS = (2 ** 31 - 1) // kernel.CELLS_PER_POINT
 MAX_POINTS_3D = tetra.MAX_CELLS // 7
 
 
+@calls.entry
 def insert(points: npt.ArrayLike, *,
            order: orders.OrderName | tuple[npt.ArrayLike, npt.ArrayLike] = "kdtree",
            hint: orders.Hint | None = None, counters: bool = True, phase_times: bool = False,
