@@ -494,8 +494,10 @@ def _new_dig(size, vid):
 
 
 @njit(cache=True)
-def _grown(tets, size):
-    """The records at ``size`` tetrahedra (vcell is per point: kept)."""
+def _grown(tets, lane, size):
+    """(tets, lane) at ``size`` tetrahedra: the records copied, the lane's
+    free list as long and its range up to the end (vcell is per point:
+    kept)."""
     R, mark, vcell = tets
     m = R.shape[0]
     R2 = np.empty((size, WIDTH), dtype=np.int32)
@@ -504,7 +506,10 @@ def _grown(tets, size):
         for k in range(WIDTH):
             R2[c, k] = R[c, k]
         mark2[c] = mark[c]
-    return Tets(R2, mark2, vcell)
+    free = np.empty(size, dtype=np.int32)
+    free[:lane.free.shape[0]] = lane.free
+    lane.state[END] = size
+    return Tets(R2, mark2, vcell), Lane(lane.state, free, lane.counts, lane.part, lane.deferred)
 
 
 @njit(cache=True)
@@ -522,12 +527,7 @@ def _run_alone(P, run, todo, tets, dig, lane, max_cells, timing):
             if cap >= max_cells:
                 raise ValueError("the triangulation needs more tetrahedra than int32 "
                                  "facet refs can number")
-            size = min(2 * cap, max_cells)
-            tets = _grown(tets, size)
-            free = np.empty(size, dtype=np.int32)
-            free[:lane.free.shape[0]] = lane.free
-            lane.state[END] = size
-            lane = Lane(lane.state, free, lane.counts, lane.part, lane.deferred)
+            tets, lane = _grown(tets, lane, min(2 * cap, max_cells))
         else:
             dig = _new_dig(2 * dig.cav.shape[0], dig.vid)
 
@@ -712,11 +712,7 @@ def _parallel_pass(P, run, todo, tets, alone, vid, lanes, timing):
         if need > size:
             raise ValueError("the triangulation needs more tetrahedra than int32 facet refs "
                              "can number")
-        tets = _grown(tets, size)
-        free = np.empty(size, dtype=np.int32)
-        free[:len(alone.free)] = alone.free
-        state[END] = size
-        alone = Lane(state, free, alone.counts, alone.part, alone.deferred)
+        tets, alone = _grown(tets, alone, size)
     if state[STAMP] + 2 * threads * (len(todo) + 2) >= STAMP_LIMIT:
         _reset_marks(tets.mark, int(state[NEXT]))
         state[STAMP] = 0
