@@ -191,7 +191,7 @@ kernel._insert_all = numba.njit(kernel._insert_all.py_func)
 tetra._run_alone = numba.njit(tetra._run_alone.py_func)
 P = np.random.default_rng(0).random((50, {d}))
 assert lfqt.verify(P, lfqt.insert(P)).ok
-print(len(kernel._insert_range_2d.signatures), len(tetra._insert_lane.signatures))
+print(len(kernel._insert_range.signatures), len(tetra._insert_lane.signatures))
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=600)

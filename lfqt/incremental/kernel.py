@@ -41,27 +41,23 @@ WALK_AHEAD = 8  # points between asking for a walk's first cell and walking it
 
 
 @njit(cache=True, inline="always")
-def _point(P, d, v):
-    """Point v as (x, y, z); in 2D z repeats y and is never used."""
-    return P[u(v), 0], P[u(v), 1], P[u(v), d - 1]
+def _point(P, v):
+    """Point v as (x, y)."""
+    return P[u(v), 0], P[u(v), 1]
 
 
 @njit(cache=True, inline="always")
-def _orient_pts(d, a, b, c, e, static):
-    """Orientation of the points (_point) a, b, c (2D) or a, b, c, e (3D);
-    ``static``: a static filter bound (statics), np.inf for none."""
-    if d == 2:
-        return orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], CCW_A, static)
-    return orient3d_staged(a, b, c, e, O3D_A, static)
+def _orient_pts(a, b, c, static):
+    """Orientation of the points (_point) a, b, c; ``static``: a static
+    filter bound (statics), np.inf for none."""
+    return orient2d_staged(a[0], a[1], b[0], b[1], c[0], c[1], CCW_A, static)
 
 
 @njit(cache=True, inline="always")
-def _insphere_pts(d, a, b, c, e, p, static):
-    """In-circle of p against a, b, c (2D) or in-sphere against a, b, c, e
-    (points as _point's); ``static`` as in _orient_pts."""
-    if d == 2:
-        return incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], p[0], p[1], ICC_A, static)
-    return insphere_staged(a, b, c, e, p, ISP_A, static)
+def _insphere_pts(a, b, c, p, static):
+    """In-circle of p against a, b, c (points as _point's); ``static`` as
+    in _orient_pts."""
+    return incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], p[0], p[1], ICC_A, static)
 
 
 @njit(cache=True)
@@ -90,8 +86,8 @@ def statics(P, d):
 def _inside_facet_circle(d, a, b, e, p, span):
     """p lies on the line (2D: segment a-b) or plane (3D: triangle a, b, e)
     of a hull facet: is it strictly inside the facet's circumcircle (2D: the
-    open segment)?  Points as _point's: scalars only, like every helper of
-    the insertion loop."""
+    open segment)?  Points as (x, y, z) tuples, z unused in 2D: scalars
+    only, like every helper of the insertion loop."""
     ax, ay, az = a
     bx, by, bz = b
     ex, ey, ez = e
@@ -148,8 +144,10 @@ def _initial_simplex(P, d, perm):
                     return pick
         else:
             a, b, c = perm[pick[0]], perm[pick[1]], perm[pick[2]]
-            o, st = _orient_pts(3, _point(P, 3, a), _point(P, 3, b), _point(P, 3, c),
-                                _point(P, 3, q), np.inf)
+            o, st = orient3d_staged((P[u(a), 0], P[u(a), 1], P[u(a), 2]),
+                                    (P[u(b), 0], P[u(b), 1], P[u(b), 2]),
+                                    (P[u(c), 0], P[u(c), 1], P[u(c), 2]),
+                                    (P[u(q), 0], P[u(q), 1], P[u(q), 2]), O3D_A, np.inf)
             if o != 0.0:
                 pick[3] = t
                 return pick
@@ -158,7 +156,7 @@ def _initial_simplex(P, d, perm):
 
 
 # The cell storage and the cavity scratch, passed to the kernels as two
-# tuples: C (m, d+1) vertices, N (m, d+1) neighbours and mark (cavity stamps,
+# tuples: C (m, 3) vertices, N (m, 3) neighbours and mark (cavity stamps,
 # DEAD for a freed cell), three views of one record per cell (_records);
 # vcell (a live cell of each vertex), free (the free list); stack and slots
 # (the depth-first search), conflicts, bcell/bface (cavity-boundary facets).
@@ -175,20 +173,18 @@ NCELLS, NFREE, STAMP, LAST = range(4)
 
 
 @njit(cache=True, inline="always")
-def _orient_ids(P, d, v0, v1, v2, v3, static):
-    """Orientation of the points v0, v1, v2 (2D) or v0, v1, v2, v3 (3D)."""
-    return _orient_pts(d, _point(P, d, v0), _point(P, d, v1), _point(P, d, v2),
-                       _point(P, d, v3), static)
+def _orient_ids(P, v0, v1, v2, static):
+    """Orientation of the points v0, v1, v2."""
+    return _orient_pts(_point(P, v0), _point(P, v1), _point(P, v2), static)
 
 
 @njit(cache=True, inline="always")
-def _with_p(C, d, c, i, p):
-    """The vertices of cell c with vertex i replaced by p (v3 = v0 in 2D)."""
+def _with_p(C, c, i, p):
+    """The vertices of cell c with vertex i replaced by p."""
     v0 = p if i == 0 else C[u(c), 0]
     v1 = p if i == 1 else C[u(c), 1]
     v2 = p if i == 2 else C[u(c), 2]
-    v3 = (p if i == 3 else C[u(c), 3]) if d == 3 else v0
-    return v0, v1, v2, v3
+    return v0, v1, v2
 
 
 @njit(cache=True, inline="always")
@@ -202,41 +198,38 @@ def _infinite_slot(C, width, c):
 
 
 @njit(cache=True, inline="always")
-def _duplicate_in(P, d, C, c, p):
+def _duplicate_in(P, C, c, p):
     """The vertex of cell c at p's position, or -1."""
-    for i in range(d + 1):
+    for i in range(3):
         v = C[u(c), u(i)]
-        if P[u(v), 0] == P[u(p), 0] and P[u(v), 1] == P[u(p), 1] and \
-                P[u(v), d - 1] == P[u(p), d - 1]:
+        if P[u(v), 0] == P[u(p), 0] and P[u(v), 1] == P[u(p), 1]:
             return v
     return -1
 
 
 @njit(cache=True, inline="always")
-def _conflicts(P, d, C, y, p, span, static):
-    """Does cell y conflict with p: (a finite cell whose circumsphere
-    strictly contains p, or an infinite cell with p beyond its hull facet,
-    or on its plane and strictly inside its circumcircle; the in-sphere
-    test's deciding stage, 0 for an infinite cell, which makes none).  Every array read comes
-    before the predicates: an array used after a call that numba does not
-    inline keeps its atomic reference count alive."""
-    width = d + 1
-    f = _infinite_slot(C, width, y)
+def _conflicts(P, C, y, p, span, static):
+    """Does triangle y conflict with p: (a finite triangle whose circumcircle
+    strictly contains p, or an infinite one with p beyond its hull edge, or
+    on its line and strictly inside the edge; the in-circle test's deciding
+    stage, 0 for an infinite triangle, which makes none).  Every array read
+    comes before the predicates: an array used after a call that numba does
+    not inline keeps its atomic reference count alive."""
+    f = _infinite_slot(C, 3, y)
     if f < 0:
         a, b, e = C[u(y), 0], C[u(y), 1], C[u(y), 2]
-        g = C[u(y), 3] if d == 3 else a
-        sv, st = _insphere_pts(d, _point(P, d, a), _point(P, d, b), _point(P, d, e),
-                               _point(P, d, g), _point(P, d, p), static[1])
+        sv, st = _insphere_pts(_point(P, a), _point(P, b), _point(P, e), _point(P, p), static[1])
         return sv > 0.0, st
-    v0, v1, v2, v3 = _with_p(C, d, y, f, p)
-    fa = C[u(y), u((f + 1) % width)]
-    fb = C[u(y), u((f + 2) % width)]
-    fe = C[u(y), u((f + 3) % width)] if d == 3 else fa
-    a, b, e, q = _point(P, d, fa), _point(P, d, fb), _point(P, d, fe), _point(P, d, p)
-    o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
+    v0, v1, v2 = _with_p(C, y, f, p)
+    (ax, ay), (bx, by) = _point(P, C[u(y), u((f + 1) % 3)]), _point(P, C[u(y), u((f + 2) % 3)])
+    px, py = _point(P, p)
+    o, st = _orient_ids(P, v0, v1, v2, static[0])
     if o != 0.0:
         return o > 0.0, 0
-    return _inside_facet_circle(d, a, b, e, q, span), 0
+    # _inside_facet_circle, shared with the 3D kernel, takes (x, y, z) points
+    # and a third facet vertex: in 2D it reads neither z nor that vertex
+    a = (ax, ay, ay)
+    return _inside_facet_circle(2, a, (bx, by, by), a, (px, py, py), span), 0
 
 
 @njit(cache=True, inline="always")
@@ -307,11 +300,9 @@ Run = namedtuple("Run", "perm hint pick state counts dup_of span static")
 # helper that loops pays numba two atomic reference counts per array and
 # call otherwise (docs/performance.md, "insertion's helpers").  No array is
 # reassigned in them for the same reason.  Indices go through ``u``
-# (lfqt.indexing).  _insert_range is inlined into _insert_range_2d, so
-# that ``d`` is a constant there (the helpers take d: _initial_simplex and
-# _inside_facet_circle serve the 3D kernel too).
-@njit(cache=True, inline="always")
-def _insert_range(P, d, run, t0, cells, scratch, timing):
+# (lfqt.indexing).
+@njit(cache=True)
+def _insert_range(P, run, t0, cells, scratch, timing):
     """Insert perm[t0:] (see above)."""
     perm, hint, pick, dup_of = run.perm, run.hint, run.pick, run.dup_of
     state, counts = borrow(run.state), borrow(run.counts)
@@ -324,23 +315,23 @@ def _insert_range(P, d, run, t0, cells, scratch, timing):
     pending = np.zeros(N_PREDICATE, dtype=np.int64)  # this point's counts, kept if it goes in
     rnd = np.uint64(88172645463325252 + t0)
     for t in range(t0, n):
-        if pick[0] == t or pick[1] == t or pick[2] == t or pick[d] == t:
+        if pick[0] == t or pick[1] == t or pick[2] == t:
             continue  # a vertex of the initial simplex
         _ask_for_walk_start(C, vcell, hint, min(t + WALK_AHEAD, n - 1))
         p = perm[u(t)]
         h = hint[u(t)]
         c = vcell[u(h)] if h >= 0 and vcell[u(h)] >= 0 else vcell[u(state[LAST])]
         c_start = cycle_counter() if timing else 0
-        c, rnd = _locate(P, d, cells, c, p, rnd, run.static, borrow(pending))
+        c, rnd = _locate(P, cells, c, p, rnd, run.static, borrow(pending))
         c_located = cycle_counter() if timing else 0
-        dup = -1 if _infinite_slot(C, d + 1, c) >= 0 else _duplicate_in(P, d, C, c, p)
+        dup = -1 if _infinite_slot(C, 3, c) >= 0 else _duplicate_in(P, C, c, p)
         if dup >= 0:
             dup_of[u(p)] = dup
             counts[DUPLICATES] += 1
             _commit(counts, pending)
             continue
         state[STAMP] += 2
-        nconf, nb_count, small = _cavity(P, d, cells, scratch, c, p, state[STAMP], run.span,
+        nconf, nb_count, small = _cavity(P, cells, scratch, c, p, state[STAMP], run.span,
                                          run.static, borrow(pending))
         if small:
             pending[:] = 0  # nothing is modified yet: this point is retried after growing
@@ -360,32 +351,31 @@ def _insert_range(P, d, run, t0, cells, scratch, timing):
 
 
 @njit(cache=True, inline="always")
-def _locate(P, d, cells, c, p, rnd, static, pending):
+def _locate(P, cells, c, p, rnd, static, pending):
     """The cell containing p: (that cell, the walk's random state).  A
     remembering visibility walk from cell c, or from the finite cell next to
     it; each step crosses the first face, from a random one on, that p lies
     beyond (which keeps the walk from cycling).  Its orient tests go to
     ``pending``."""
     C, N = cells.C, cells.N
-    width = d + 1
-    f = _infinite_slot(C, width, c)
+    f = _infinite_slot(C, 3, c)
     if f >= 0:
         c = N[u(c), u(f)]
     prev = -1
     moved = True
-    while moved and _infinite_slot(C, width, c) < 0:
+    while moved and _infinite_slot(C, 3, c) < 0:
         rnd ^= rnd << np.uint64(13)
         rnd ^= rnd >> np.uint64(7)
         rnd ^= rnd << np.uint64(17)
-        rot = np.int64(rnd % np.uint64(width))  # a random first face
+        rot = np.int64(rnd % np.uint64(3))  # a random first face
         moved = False
-        for q in range(width):
-            i = q + rot if q + rot < width else q + rot - width
+        for q in range(3):
+            i = q + rot if q + rot < 3 else q + rot - 3
             nb = N[u(c), u(i)]
             if nb == prev:
                 continue
-            v0, v1, v2, v3 = _with_p(C, d, c, i, p)
-            o, st = _orient_ids(P, d, v0, v1, v2, v3, static[0])
+            v0, v1, v2 = _with_p(C, c, i, p)
+            o, st = _orient_ids(P, v0, v1, v2, static[0])
             pending[ORIENT] += 1
             if o < 0.0:
                 prev, c, moved = c, nb, True
@@ -398,8 +388,8 @@ def _locate(P, d, cells, c, p, rnd, static, pending):
 # cavity, the records and marks of its neighbours are asked for at once: they
 # are read next, and the mark of a cell off the free list is a cache miss
 # (docs/performance.md, "cavity prefetch").  A stack entry is a cell and the
-# faces it has left to look across, as (count << 2) | next slot.  In 2D a
-# cell entered from x looks across its two other edges in counter-clockwise
+# faces it has left to look across, as (count << 2) | next slot.  A cell
+# entered from x looks across its two other edges in counter-clockwise
 # order, x's slot + 1 then + 2: the cavity's cells form a tree (no vertex is
 # inside it), so the boundary edges come out in counter-clockwise order
 # around p, which glues the new triangles in a ring without a table.  With p
@@ -412,18 +402,17 @@ def _locate(P, d, cells, c, p, rnd, static, pending):
 #              x           (j: the slot of w, opposite x)
 #              p
 @njit(cache=True, inline="always")
-def _cavity(P, d, cells, scratch, c, p, stamp, span, static, pending):
+def _cavity(P, cells, scratch, c, p, stamp, span, static, pending):
     """The cavity of p from cell c (see above): (its cells, in
-    scratch.conflicts, the number of its boundary facets, each the face
+    scratch.conflicts, the number of its boundary edges, each the edge
     scratch.bface of the cavity cell scratch.bcell, and whether the
-    scratch was too small).  Its in-sphere tests go to ``pending``."""
+    scratch was too small).  Its in-circle tests go to ``pending``."""
     N, mark = cells.N, cells.mark
     stack, slots, conflicts, bcell, bface = (scratch.stack, scratch.slots, scratch.conflicts,
                                              scratch.bcell, scratch.bface)
-    width = d + 1
     nstack, nconf, nb_count, small = 1, 1, 0, False
     stack[0] = c
-    slots[0] = width << 2
+    slots[0] = 3 << 2  # the first cell looks across all its edges
     conflicts[0] = c
     mark[u(c)] = stamp
     while nstack > 0 and not small:
@@ -433,13 +422,13 @@ def _cavity(P, d, cells, scratch, c, p, stamp, span, static, pending):
             nstack -= 1
             continue
         i = code & 3
-        slots[u(nstack - 1)] = code - 4 + (1 if i < width - 1 else 1 - width)
+        slots[u(nstack - 1)] = code - 4 + (1 if i < 2 else -2)
         y = N[u(x), u(i)]
         if mark[u(y)] == stamp:
             continue
         conflict = False
         if mark[u(y)] != stamp + 1:
-            conflict, st = _conflicts(P, d, cells.C, y, p, span, static)
+            conflict, st = _conflicts(P, cells.C, y, p, span, static)
             if st > 0:
                 tally(pending, INCIRCLE, st)
         if conflict:
@@ -450,13 +439,11 @@ def _cavity(P, d, cells, scratch, c, p, stamp, span, static, pending):
             conflicts[u(nconf)] = y
             nconf += 1
             stack[u(nstack)] = y
-            slots[u(nstack)] = width << 2
-            for k in range(width):  # y's neighbours are read next (see above)
+            for k in range(3):  # y's neighbours are read next (see above)
                 prefetch(cells.C, np.int64(N[u(y), u(k)]))
                 prefetch(mark, np.int64(N[u(y), u(k)]))
-            if d == 2:
-                j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
-                slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
+            j = 0 if N[u(y), 0] == x else (1 if N[u(y), 1] == x else 2)
+            slots[u(nstack)] = (2 << 2) | (j + 1 if j < 2 else 0)
             nstack += 1
         else:
             mark[u(y)] = stamp + 1
@@ -508,11 +495,6 @@ def _free(cells, state, conflicts, count):
 
 
 @njit(cache=True)
-def _insert_range_2d(P, run, t0, cells, scratch, timing):
-    return _insert_range(P, 2, run, t0, cells, scratch, timing)
-
-
-@njit(cache=True)
 def _records(R, width):
     """C, N and mark: views of the records R, one row of int32 per cell, so
     that a visit to a cell reads one cache line, not one per array:
@@ -557,13 +539,12 @@ def _new_scratch(size):
 
 
 @njit(cache=True)
-def _start(P, d, s, cells):
-    """The simplex of the points s (d+1 ids, reordered to be positive) and
-    its d+1 infinite cells, all glued: returns the number of cells."""
+def _start(P, s, cells):
+    """The triangle of the points s (3 ids, reordered to be positive) and
+    its 3 infinite cells, all glued: returns the number of cells."""
     C, N, mark, vcell = cells.C, cells.N, cells.mark, cells.vcell
-    width = d + 1
-    s3 = s[3] if d == 3 else s[0]
-    o, st = _orient_ids(P, d, s[0], s[1], s[2], s3, np.inf)
+    width = 3
+    o, st = _orient_ids(P, s[0], s[1], s[2], np.inf)
     if o < 0.0:
         s[0], s[1] = s[1], s[0]
     for k in range(width):
@@ -593,7 +574,7 @@ def _start(P, d, s, cells):
                     for k2 in range(width):
                         if C[c2, k2] == C[c, k]:
                             shared += 1
-                if shared == d:
+                if shared == width - 1:
                     N[c, i] = c2
     for k in range(width):
         vcell[s[k]] = 0
@@ -662,36 +643,35 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     vcell = workspace.empty(n, np.int32)
     vcell.fill(-1)
-    records = workspace.empty(_record_shape(cap, d + 1), np.int32)
-    cells = Cells(*_records(records, d + 1), vcell, workspace.empty(cap, np.int32))
-    out = _insert_all(P, d, (perm, hint), span, cells, np.arange(n), max_cells, timing)
+    records = workspace.empty(_record_shape(cap, 3), np.int32)
+    cells = Cells(*_records(records, 3), vcell, workspace.empty(cap, np.int32))
+    out = _insert_all(P, (perm, hint), span, cells, np.arange(n), max_cells, timing)
     grown = out.C.__array_interface__["data"][0] != records.__array_interface__["data"][0]
     return Insertion(*out, None if grown else records)
 
 
 @njit(cache=True, nogil=True)
-def _insert_all(P, d, order, span, cells, dup_of, max_cells, timing):
+def _insert_all(P, order, span, cells, dup_of, max_cells, timing):
     """insert_all's kernel, into ``cells`` (growing them when full), in
     ``order`` = (perm, hint); dup_of starts as the identity.  Returns an
     Inserted."""
     perm, hint = order
     counts = np.zeros(N_INSERT, dtype=np.int64)
-    width = d + 1
-    pick = _initial_simplex(P, d, perm)
-    ok = pick[0] >= 0 and pick[d] >= 0
+    pick = _initial_simplex(P, 2, perm)
+    ok = pick[0] >= 0 and pick[2] >= 0
     m = np.int64(0)
     if ok:
-        s = np.empty(width, dtype=np.int64)
-        for k in range(width):
+        s = np.empty(3, dtype=np.int64)
+        for k in range(3):
             s[k] = perm[pick[k]]
-        state = np.array([_start(P, d, s, cells), 0, 0, s[0]], dtype=np.int64)
+        state = np.array([_start(P, s, cells), 0, 0, s[0]], dtype=np.int64)
         # np.int64, not a literal: a literal argument would compile the callee
         # once for it and again for the int64 the loop passes back (numba)
         scratch = _new_scratch(np.int64(256))  # doubled whenever a cavity needs more
-        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, d))
+        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, 2))
         t = np.int64(0)
         while True:
-            t, reason = _insert_range_2d(P, run, t, cells, scratch, timing)
+            t, reason = _insert_range(P, run, t, cells, scratch, timing)
             if reason == 0:
                 break
             if reason == 1:
