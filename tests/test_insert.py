@@ -150,7 +150,7 @@ def test_output_written_over_the_records_is_the_output_beside_them(d, n):
     rng = np.random.default_rng(d)
     P = rng.random((n, d))
     perm, hint = np.arange(n), np.full(n, -1)
-    run = insert_all(P, d, perm, hint, 1.0) if d == 2 else tetra.insert_all(P, perm, hint, 1.0)
+    run = insert_all(P, perm, hint, 1.0) if d == 2 else tetra.insert_all(P, perm, hint, 1.0)
     assert run.records is not None and run.ok
     ids = rng.permutation(n)
     shift = 2 if d == 3 else 0  # 3D neighbours are facet refs, 4 t + i

@@ -108,7 +108,7 @@ def insert_bin(state, lo, hi, order, counts, part):
         t0 = time.perf_counter()
         perm, hints = orders.order(P, order)
         t_order = time.perf_counter() - t0
-        C, N, mark, _, _, cnt, ok, _ = insertion.insert_all(P, 2, perm, hints,
+        C, N, mark, _, _, cnt, ok, _ = insertion.insert_all(P, perm, hints,
                                                              insertion.coordinate_span(P))
         if ok:
             p = ops[ops >= 0]

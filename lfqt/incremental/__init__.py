@@ -127,7 +127,7 @@ def insert(points: npt.ArrayLike, *,
         insertion = tetra.insert_all(stored, perm, hints, span, timing=phase_times,
                                      threads=threads)
     else:
-        insertion = kernel.insert_all(stored, d, perm, hints, span, timing=phase_times)
+        insertion = kernel.insert_all(stored, perm, hints, span, timing=phase_times)
     C, N, mark, ncells, dup_rank, cnt, ok, records = insertion
     duplicates = int(cnt[DUPLICATES])  # points found equal to one inserted before
     dup_of = kernel.duplicate_of(store, dup_rank) if duplicates else None

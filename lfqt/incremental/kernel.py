@@ -620,8 +620,8 @@ def coordinate_span(P, largest=None):
     return max(1.0, float(np.abs(P).max(initial=0.0)) if largest is None else largest)
 
 
-def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
-    """Insert the 2D points P[perm] one by one (d = 2; 3D points go to
+def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=False):
+    """Insert the 2D points P[perm] one by one (3D points go to
     lfqt.incremental.tetra.insert_all); returns an Insertion (C, N, mark,
     ncells, dup_of, counts, ok, records).  ok is False when the points are
     collinear.  Raises ValueError when the triangulation needs more than
@@ -637,8 +637,9 @@ def insert_all(P, d, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=F
     (lfqt.pages.huge_pays), where numba's allocations would fault in 4 KB at a time
     on every call (docs/performance.md, "insertion's pages"), and on the
     mappings of earlier calls' freed results where there are."""
-    if d != 2:
-        raise ValueError(f"the 2D insertion kernel got {d}D points (3D: tetra.insert_all)")
+    if P.shape[1] != 2:
+        raise ValueError(f"the 2D insertion kernel got {P.shape[1]}D points "
+                         "(3D: tetra.insert_all)")
     n = P.shape[0]
     cap = capacity if capacity > 0 else max(16, CELLS_PER_POINT * n)
     vcell = workspace.empty(n, np.int32)
