@@ -61,21 +61,27 @@ def _insphere_pts(a, b, c, p, static):
 
 
 @njit(cache=True)
-def statics(P, d):
-    """(orient, in-sphere) static filter bounds for calls among the points
-    of P, from their bounding box (planar.static_bounds, spatial.static_bounds3):
-    every call of the insertion loop but _inside_facet_circle's, whose helper
-    point leaves the box."""
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for a in range(3):
-        lo[a] = np.inf
-        hi[a] = -np.inf
+def box(P, d):
+    """(lowest, highest) coordinate of the points P on each of their d
+    axes (3 entries each; inf and -inf beyond d), in one pass: numpy's
+    reductions over the short axis (``P.min(axis=0)``) took 21 ms each at
+    1M 3D points, this 5 ms for both."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
     for k in range(P.shape[0]):
         for a in range(d):
             lo[a] = min(lo[a], P[k, a])
             hi[a] = max(hi[a], P[k, a])
-    if P.shape[0] == 0:
+    return lo, hi
+
+
+@njit(cache=True)
+def statics(lo, hi, d):
+    """(orient, in-sphere) static filter bounds for calls among points in
+    the box lo, hi (``box``; planar.static_bounds, spatial.static_bounds3):
+    every call of the insertion loop but _inside_facet_circle's, whose
+    helper point leaves the box.  An empty box has none (inf)."""
+    if lo[0] > hi[0]:
         return np.inf, np.inf
     if d == 2:
         return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)
@@ -669,7 +675,8 @@ def _insert_all(P, order, span, cells, dup_of, max_cells, timing):
         # np.int64, not a literal: a literal argument would compile the callee
         # once for it and again for the int64 the loop passes back (numba)
         scratch = _new_scratch(np.int64(256))  # doubled whenever a cavity needs more
-        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(P, 2))
+        lo, hi = box(P, 2)
+        run = Run(perm, hint, pick, state, counts, dup_of, span, statics(lo, hi, 2))
         t = np.int64(0)
         while True:
             t, reason = _insert_range(P, run, t, cells, scratch, timing)

@@ -50,7 +50,7 @@ from ..predicates.counters import CONFLICTS, DUPLICATES, INCIRCLE, N_INSERT, N_P
 from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
 from ..workers import Workers
 from .kernel import (DEAD, INF, WALK_AHEAD, Insertion, _commit, _initial_simplex,
-                     _inside_facet_circle, phase_cycles, statics)
+                     _inside_facet_circle, box, phase_cycles, statics)
 
 CELLS_PER_POINT = 8  # the records insert_all starts with (they double when full)
 MAX_CELLS = 2 ** 29 - 1  # 4 t + i is an int32
@@ -646,11 +646,12 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
         return Insertion(R[:0, :4], R[:0, 4:], tets.mark[:0], 0, dup_of, counts, False, R)
     s = perm[pick].astype(np.int64)
     used = _start(P, s, tets)
-    run = Run(perm, hint, pick, dup_of, span, statics(P, 3))
+    lo, hi = box(P, 3)
+    run = Run(perm, hint, pick, dup_of, span, statics(lo, hi, 3))
     dig = _new_dig(np.int64(256), np.empty(n, dtype=np.int32))
     # the lanes' slabs cross the longest side of the points' box, then the
     # next longest
-    axes = [int(a) for a in np.argsort(P.max(axis=0) - P.min(axis=0))[::-1][:2]]
+    axes = [int(a) for a in np.argsort(hi - lo)[::-1][:2]]
     axis = axes[0]
     alone = Lane(np.array([used, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
                  workspace.empty(cap, np.int32), counts, (P[:, axis], -np.inf, np.inf,
