@@ -338,7 +338,7 @@ def test_parallel_3d_runs_in_rounds_and_matches_one_thread(rng, monkeypatch):
 
     def spy(*args):
         out = real(*args)
-        passes.append((len(args[2]), len(out[2])))
+        passes.append((len(args[2]), len(out[2]), args[6][1]))  # todo, left, the slabs' axis
         return out
 
     monkeypatch.setattr(tetra, "_parallel_pass", spy)
@@ -347,7 +347,12 @@ def test_parallel_3d_runs_in_rounds_and_matches_one_thread(rng, monkeypatch):
     assert not passes  # one thread: no lanes
     two = insert_verified(pts, threads=2)
     assert len(passes) >= 2 * 5  # rounds of 256, 512, ... each in two passes
-    assert all(left < todo or todo == 0 for todo, left in passes)  # every pass inserts
+    assert all(left < todo or todo == 0 for todo, left, _ in passes)  # every pass inserts
+    # each round's passes cross two sides; the last round's leftovers, the third
+    rounds = passes[:-1] if len(passes) % 2 else passes
+    assert all({a for _, _, a in rounds[k:k + 2]} == {rounds[0][2], rounds[1][2]}
+               for k in range(0, len(rounds), 2))
+    assert len(passes) % 2 == 1 and passes[-1][2] not in {rounds[0][2], rounds[1][2]}
     assert cells(one.simplices) == cells(two.simplices)
     assert lfqt.Delaunay(pts, threads=2).simplices.shape == one.simplices.shape
 

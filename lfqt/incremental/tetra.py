@@ -630,8 +630,9 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
     kernel.insert_all does for 2D points (its parameters).  ``threads``
     above 1: after the first SEQUENTIAL points, rounds of the order in
     lanes (_insert_lane), each in its own slab of space, the points a lane
-    cannot take retried in slabs across the next longest side, and the
-    rest alone at the end.  ``first``: the points inserted alone first (SEQUENTIAL by
+    cannot take retried in slabs across the next longest side; the last
+    round's leftovers in slabs across the third, and the rest alone at the
+    end.  ``first``: the points inserted alone first (SEQUENTIAL by
     default)."""
     n = P.shape[0]
     cap = min(capacity if capacity > 0 else max(16, CELLS_PER_POINT * n), max_cells)
@@ -646,12 +647,12 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
         return Insertion(R[:0, :4], R[:0, 4:], tets.mark[:0], 0, dup_of, counts, False, R)
     s = perm[pick].astype(np.int64)
     used = _start(P, s, tets)
-    lo, hi = box(P, 3)
-    run = Run(perm, hint, pick, dup_of, span, statics(lo, hi, 3))
+    low, high = box(P, 3)
+    run = Run(perm, hint, pick, dup_of, span, statics(low, high, 3))
     dig = _new_dig(np.int64(256), np.empty(n, dtype=np.int32))
     # the lanes' slabs cross the longest side of the points' box, then the
-    # next longest
-    axes = [int(a) for a in np.argsort(hi - lo)[::-1][:2]]
+    # next longest, then the third
+    axes = [int(a) for a in np.argsort(high - low)[::-1]]
     axis = axes[0]
     alone = Lane(np.array([used, cap, 0, 0, 2, s[0], 0], dtype=np.int64),
                  workspace.empty(cap, np.int32), counts, (P[:, axis], -np.inf, np.inf,
@@ -667,11 +668,18 @@ def insert_all(P, perm, hint, span, capacity=0, max_cells=MAX_CELLS, timing=Fals
         # crowd along the first pass's borders), the second's across the
         # first's: only the points near where their borders cross are left
         round_todo = todo
-        for a in axes:
+        for a in axes[:2]:
             cuts = _slabs(P, run.perm, round_todo, a, threads)
             tets, alone, todo = _parallel_pass(P, run, todo, tets, alone, dig.vid,
                                                (threads, a, cuts), timing)
         left = todo
+    if len(left):
+        # the last round's leftovers lie along the line where its two
+        # passes' borders cross: slabs across the third side leave only
+        # those near where all three cross
+        cuts = _slabs(P, run.perm, left, axes[2], threads)
+        tets, alone, left = _parallel_pass(P, run, left, tets, alone, dig.vid,
+                                           (threads, axes[2], cuts), timing)
     tets, dig, alone = _run_alone(P, run, left, tets, dig, alone, max_cells, timing)
     m = alone.state[NEXT]
     grown = tets.R.__array_interface__["data"][0] != R.__array_interface__["data"][0]
