@@ -428,7 +428,7 @@ class Delaunay:
             np.maximum(out, 0, out=at)
             return out, at
         P, S, N = self._mesh
-        jump = jump_sample(len(Q), len(S))
+        jump = jump_sample(len(Q), len(P), len(S))
         if coherent(Q) and (self._mesh_bytes <= MESH_IN_CACHE or curve_like(Q, CURVE_WINDOW)):
             # the caller's order is already one along space (or the mesh fits in the caches)
             workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at, jump))

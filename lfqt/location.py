@@ -279,12 +279,21 @@ def walk_frame(P, S, scale):
     return P2, S2
 
 
-def jump_sample(queries, simplices):
+# Queries fewer than the mesh's points over JUMP_SPARSITY start each walk
+# from the nearest of a sample of simplices (jump and walk); denser ones
+# from the previous answer, which their curve order keeps near.  The
+# break-even, warm, uniform queries (docs/performance.md, "jump or walk"):
+# 2D, 1M points, between 20k and 40k queries; 3D, 300k points, between
+# 10k and 20k.
+JUMP_SPARSITY = 32
+
+
+def jump_sample(queries, points, simplices):
     """How many simplices a walk's start is chosen from: none when the
-    queries are dense enough that, sorted, each starts near the previous
-    answer; else about m**(1/3), which balances the jump's distance tests
-    against the walk's expected length."""
-    if 8 * queries >= simplices:
+    queries are dense enough (JUMP_SPARSITY) that, sorted, each starts near
+    the previous answer; else about m**(1/3), which balances the jump's
+    distance tests against the walk's expected length."""
+    if JUMP_SPARSITY * queries >= points:
         return 0
     return int(round(simplices ** (1.0 / 3.0)))
 

@@ -178,8 +178,8 @@ def test_sparse_queries_jump_then_walk_and_answer_exactly(dim, rng):
     pts = rng.random((6000, dim))
     d = _built(pts)
     q = np.r_[rng.random((30, dim)), [np.full(dim, 2.0)]]
-    assert location.jump_sample(len(q), d.nsimplex) > 0
-    assert location.jump_sample(d.nsimplex, d.nsimplex) == 0
+    assert location.jump_sample(len(q), len(pts), d.nsimplex) > 0
+    assert location.jump_sample(len(pts) // location.JUMP_SPARSITY + 1, len(pts), d.nsimplex) == 0
     found = d.find_simplex(q)
     assert found[-1] == -1
     for t, x in zip(found[:-1], q[:-1]):
