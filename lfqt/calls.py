@@ -8,6 +8,10 @@ until no call runs.
 """
 import functools
 import threading
+from typing import Callable, ParamSpec, TypeVar
+
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
 
 _running = 0  # entries running now, in any thread but the background one
 _changed = threading.Condition()
@@ -15,10 +19,11 @@ _here = threading.local()  # .depth: this thread's entries running now
 background = None  # the thread whose own calls do not count (lfqt.preload's)
 
 
-def entry(function):
-    """Decorate a public entry point: count it as running while it runs."""
+def entry(function: Callable[_P, _R]) -> Callable[_P, _R]:
+    """Decorate a public entry point: count it as running while it runs
+    (typed, so that the entry point keeps its signature for type checkers)."""
     @functools.wraps(function)
-    def counted(*args, **kwargs):
+    def counted(*args: _P.args, **kwargs: _P.kwargs) -> _R:
         global _running
         if threading.current_thread() is background:
             return function(*args, **kwargs)

@@ -13,10 +13,12 @@ on float32 points; then 3D insertion's, alone and in lanes (_steps_3d).
 
 A call that comes before the thread is done waits for numba's compiler lock
 while the thread loads a kernel, no longer than it would have taken to load
-the kernel itself.  The thread gives way to calls (lfqt.calls): it runs at the
-lowest priority, and starts none of its steps while a call runs, so that a
-2D call is not slowed by 3D kernels loading beside it (numba loads a kernel
-in Python, under the GIL; docs/performance.md, "preload gives way").
+the kernel itself.  The thread gives way to calls (lfqt.calls): it starts
+none of its steps while a call runs, so that a 2D call is not slowed by 3D
+kernels loading beside it (numba loads a kernel in Python, under the GIL;
+docs/performance.md, "preload gives way").  It keeps the program's
+priority: the pool threads it makes (lfqt.workers) serve the program's
+calls after it, and a thread's priority passes to the threads it makes.
 A fork waits for the thread first (``_before_fork``): a child must not
 inherit numba's lock held.  ``LFQT_PRELOAD=0`` in the environment turns it
 off.
@@ -69,25 +71,12 @@ def _steps():
 
 
 def _load():
-    _lowest_priority()
     try:
         for _ in _steps():
             calls.wait_idle(lambda: _stop)
             if _stop:
                 return
     except Exception:  # noqa: BLE001 - best effort: the first call loads whatever is missing
-        pass
-
-
-def _lowest_priority():
-    """Run this thread at nice 19 (on Linux a thread's nice value is its
-    own): on a machine with no more cores than the caller's call has
-    threads, the preload would take a core from it.  When the caller waits
-    for the preload (numba's lock, the GIL), the caller's core is idle and
-    the preload runs there."""
-    try:
-        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 19)
-    except (AttributeError, OSError):  # not Linux, or not allowed: it runs as it is
         pass
 
 
