@@ -51,6 +51,9 @@ SMALLEST = 1 << 20  # bytes: smaller arrays come from numpy's allocator
 IDLE_SECONDS = 2.0  # an idle mapping is unmapped this long after its last use
 LIMIT = 2 << 30  # idle bytes the pool keeps at most
 POPULATE_CHUNK = 8 << 20  # bytes: less is not worth a thread
+# an idle mapping longer than a request by more than 1/OVERSIZE of it (and
+# 2 MiB) gives back its pages past the request when it is lent
+OVERSIZE = 4
 
 
 class Pool:
@@ -132,6 +135,10 @@ class Pool:
                 return None
             best = min(fits, key=lambda e: e[0])
             self._idle.remove(best)
+            if best[0] - nbytes > max(nbytes // OVERSIZE, 1 << 21):
+                # a mapping of a larger call: the array would keep the
+                # pages past it resident for as long as it lives
+                pages.give_back(best[2], nbytes)
             return best[2]
 
     def _give(self, buf):

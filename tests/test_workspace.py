@@ -1,9 +1,9 @@
 """lfqt.workspace: mappings lent as arrays, taken back when the last view
 dies, reused best-fit, unmapped when idle; and the views that share one."""
+import ctypes
 import gc
 import mmap
 import os
-import re
 import subprocess
 import sys
 import time
@@ -23,18 +23,24 @@ def _address(a):
 
 
 def _resident_kb_over(spans):
-    """Resident kB of the memory areas of /proc/self/smaps that overlap any
-    (start, stop) of ``spans`` (the kernel may merge adjacent mappings into
-    one area); None where smaps is not available."""
+    """Resident kB of the pages in the (start, stop) byte ranges ``spans``
+    (mincore: page by page, these ranges only, where /proc/self/smaps would
+    count a whole memory area, which the kernel may have merged with its
+    neighbours); None where mincore is not available."""
     try:
-        text = open("/proc/self/smaps").read()
-    except OSError:
+        libc = ctypes.CDLL(None, use_errno=True)
+        mincore = libc.mincore
+    except (OSError, AttributeError):
         return None
+    mincore.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p]
+    page = mmap.PAGESIZE
     total = 0
-    for m in re.finditer(r"^([0-9a-f]+)-([0-9a-f]+) .*?\nRss:\s+(\d+) kB", text, re.M | re.S):
-        lo, hi = int(m.group(1), 16), int(m.group(2), 16)
-        if any(lo < stop and start < hi for start, stop in spans):
-            total += int(m.group(3))
+    for start, stop in spans:
+        count = (stop - start + page - 1) // page
+        vec = (ctypes.c_ubyte * count)()
+        if mincore(ctypes.c_void_p(start), ctypes.c_size_t(stop - start), vec) != 0:
+            return None
+        total += sum(b & 1 for b in vec) * page // 1024
     return total
 
 
@@ -259,7 +265,7 @@ def test_a_kept_result_holds_no_more_resident_memory_than_its_arrays():
     assert len(spans) == 2
     resident = _resident_kb_over(spans)
     if resident is None:
-        pytest.skip("no /proc/self/smaps")
+        pytest.skip("no mincore")
     page_kb = mmap.PAGESIZE / 1024
     assert resident <= sum(a.nbytes for a in arrays) / 1024 + 2 * len(arrays) * page_kb
     lfqt.verify(pts, tri).raise_if_invalid()
@@ -318,3 +324,24 @@ def test_calls_in_parallel_threads_each_get_their_own_memory():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_an_array_lent_a_larger_calls_mapping_holds_only_its_own_pages():
+    """A small request that takes the idle mapping of a larger call gets
+    the pages past it given back: a result on it keeps no more resident."""
+    pool = workspace.Pool()
+    big = pool.empty(40 << 20, np.uint8)
+    big.fill(1)  # every page resident
+    del big
+    gc.collect()
+    assert pool.idle_bytes() >= 40 << 20
+    small = pool.empty(3 << 20, np.uint8)
+    small.fill(2)
+    buf, offset = pages.mapping_of(small)
+    assert len(buf) >= 40 << 20  # the big mapping, lent again
+    start = _address(small) - offset
+    resident = _resident_kb_over([(start, start + len(buf))])
+    if resident is None:
+        pytest.skip("no mincore")
+    assert resident <= (3 << 20) // 1024 + 4 * mmap.PAGESIZE // 1024
+    assert (small == 2).all()
