@@ -16,7 +16,7 @@ from .derived import extents, hyperplanes, lift, plane_distances, transforms, ve
 from .incremental import insert
 from .location import (TINY_SHIFT, coherent, curve_like, grid_order, in_frame, jump_sample,
                        locate_brute, locate_rational, locate_tiny, locate_tolerant, locate_walk,
-                       simplex_boxes, split_queries, tiny_frame_ok, walk_frame)
+                       simplex_boxes, split_queries, tiny_frame_ok, walk_frame, walk_static)
 from .triangulation import DegenerateInputError, Triangulation
 from . import workspace
 from .workers import Workers
@@ -212,6 +212,8 @@ class Delaunay:
         self.nsimplex = len(self.simplices)
         self.good = np.ones(self.nsimplex, dtype=np.intc)
         self.min_bound, self.max_bound, lifted = extents(self.points)
+        # the box of _mesh's points: the frame's scale is a power of two, exact on them
+        self._mesh_box = np.array([self.min_bound, self.max_bound]) * self._scale
         self.paraboloid_scale, self.paraboloid_shift = self._paraboloid(*lifted)
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
 
@@ -427,16 +429,18 @@ class Delaunay:
             workers.map(chunks, lambda c, lo, hi: locate_brute(P, S, B, Q, lo, hi, out))
             np.maximum(out, 0, out=at)
             return out, at
-        P, S, N = self._mesh
-        jump = jump_sample(len(Q), len(P), len(S))
+        mesh = self._mesh
+        jump = jump_sample(len(Q), len(mesh[0]), len(mesh[1]))
+        static = walk_static(self._mesh_box, Q)
         if coherent(Q) and (self._mesh_bytes <= MESH_IN_CACHE or curve_like(Q, CURVE_WINDOW)):
             # the caller's order is already one along space (or the mesh fits in the caches)
-            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Q, lo, hi, out, at, jump))
+            workers.map(chunks, lambda c, lo, hi: locate_walk(mesh, Q, lo, hi, out, at, jump,
+                                                              static))
         else:  # the queries gathered in curve order, so that the walks read and write in a run
             order = grid_order(Q)
             Qs, found, last = Q[order], np.empty_like(out), np.empty_like(at)
-            workers.map(chunks, lambda c, lo, hi: locate_walk(P, S, N, Qs, lo, hi, found, last,
-                                                              jump))
+            workers.map(chunks, lambda c, lo, hi: locate_walk(mesh, Qs, lo, hi, found, last,
+                                                              jump, static))
             out[order], at[order] = found, last
         return out, at
 

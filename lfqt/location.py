@@ -43,8 +43,8 @@ from numba import njit
 
 from .predicates.expansion import (EPS, cross_exact, exact_diff, expansion_product,
                                    expansion_sum, scale_expansion)
-from .predicates.planar import CCW_A, orient2d_staged
-from .predicates.spatial import O3D_A, orient3d_staged
+from .predicates.planar import CCW_A, ICC_A, orient2d_staged, static_bounds
+from .predicates.spatial import ISP_A, O3D_A, orient3d_staged, static_bounds3
 from .morton import spread_bits
 from .radix import sort_keys
 from .workers import Workers
@@ -106,12 +106,12 @@ def _contains(P, S, t, qx, qy, qz):
 
 
 @njit(cache=True, inline="always")
-def _step2(P, S, t, qx, qy):
+def _step2(P, S, t, qx, qy, static):
     """The edge of triangle t that q lies farthest beyond, or -1 (q is in
     t).  The three orientations are evaluated together, each with q as the
-    origin (one set of differences), and certified by stage A's bound
-    (``orient2d_staged``); only an uncertain one is decided again,
-    exactly.  No branch per edge: on a large mesh the walk waits on memory
+    origin (one set of differences), and certified by ``static``
+    (walk_static) or else by stage A's bound (``orient2d_staged``); only an
+    uncertain one is decided again, exactly.  No branch per edge: on a large mesh the walk waits on memory
     and on mispredicted branches, not on arithmetic.  The edge the walk came
     through is never chosen (q is on its other side, or on it), and on a
     Delaunay triangulation any choice among the edges q is beyond ends
@@ -131,8 +131,9 @@ def _step2(P, S, t, qx, qy):
     u1, v1 = cqx * aqy, cqy * aqx
     u2, v2 = aqx * bqy, aqy * bqx
     d0, d1, d2 = u0 - v0, u1 - v1, u2 - v2
-    sure = ((abs(d0) >= CCW_A * (abs(u0) + abs(v0))) & (abs(d1) >= CCW_A * (abs(u1) + abs(v1)))
-            & (abs(d2) >= CCW_A * (abs(u2) + abs(v2))))
+    sure = min(abs(d0), abs(d1), abs(d2)) > static or (
+        (abs(d0) >= CCW_A * (abs(u0) + abs(v0))) & (abs(d1) >= CCW_A * (abs(u1) + abs(v1)))
+        & (abs(d2) >= CCW_A * (abs(u2) + abs(v2))))
     if not sure:
         d0, _ = orient2d_staged(bx, by, cx, cy, qx, qy, CCW_A)
         d1, _ = orient2d_staged(cx, cy, ax, ay, qx, qy, CCW_A)
@@ -156,14 +157,15 @@ def _most_beyond(d0, d1, d2, d3):
 
 
 @njit(cache=True, inline="always")
-def _step3(P, S, t, qx, qy, qz):
+def _step3(P, S, t, qx, qy, qz, static):
     """_step2 for tetrahedra: q lies beyond the facet opposite corner i when
     the tetrahedron with q in slot i is negatively oriented.  With q as the
     origin and A..D the corners minus q, those four orientations are
     det[B, C, D], -det[A, C, D], det[A, B, D] and -det[A, B, C]: two cross
     products, C x D and A x B, serve all four, each a triple product of
     rounded differences as orient3d_staged evaluates it (the same error
-    bound, on the same permanent)."""
+    bound, on the same permanent).  ``static`` (walk_static) certifies all
+    four at once, without their permanents, unless one is that small."""
     a, b, c, d = S[t, 0], S[t, 1], S[t, 2], S[t, 3]
     ax, ay, az = P[a, 0], P[a, 1], P[a, 2]
     bx, by, bz = P[b, 0], P[b, 1], P[b, 2]
@@ -173,18 +175,20 @@ def _step3(P, S, t, qx, qy, qz):
     Cx, Cy, Cz, Dx, Dy, Dz = cx - qx, cy - qy, cz - qz, dx - qx, dy - qy, dz - qz
     u0, v0, u1, v1, u2, v2 = Cy * Dz, Cz * Dy, Cz * Dx, Cx * Dz, Cx * Dy, Cy * Dx
     x0, x1, x2 = u0 - v0, u1 - v1, u2 - v2  # C x D
-    p0, p1, p2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
-    u0, v0, u1, v1, u2, v2 = Ay * Bz, Az * By, Az * Bx, Ax * Bz, Ax * By, Ay * Bx
-    y0, y1, y2 = u0 - v0, u1 - v1, u2 - v2  # A x B
-    r0, r1, r2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+    s0, t0, s1, t1, s2, t2 = Ay * Bz, Az * By, Az * Bx, Ax * Bz, Ax * By, Ay * Bx
+    y0, y1, y2 = s0 - t0, s1 - t1, s2 - t2  # A x B
     d0 = Bx * x0 + By * x1 + Bz * x2
     d1 = -(Ax * x0 + Ay * x1 + Az * x2)
     d2 = Dx * y0 + Dy * y1 + Dz * y2
     d3 = -(Cx * y0 + Cy * y1 + Cz * y2)
-    sure = ((abs(d0) > O3D_A * (abs(Bx) * p0 + abs(By) * p1 + abs(Bz) * p2))
-            & (abs(d1) > O3D_A * (abs(Ax) * p0 + abs(Ay) * p1 + abs(Az) * p2))
-            & (abs(d2) > O3D_A * (abs(Dx) * r0 + abs(Dy) * r1 + abs(Dz) * r2))
-            & (abs(d3) > O3D_A * (abs(Cx) * r0 + abs(Cy) * r1 + abs(Cz) * r2)))
+    sure = min(min(abs(d0), abs(d1)), min(abs(d2), abs(d3))) > static
+    if not sure:  # the permanents, only now
+        p0, p1, p2 = abs(u0) + abs(v0), abs(u1) + abs(v1), abs(u2) + abs(v2)
+        r0, r1, r2 = abs(s0) + abs(t0), abs(s1) + abs(t1), abs(s2) + abs(t2)
+        sure = ((abs(d0) > O3D_A * (abs(Bx) * p0 + abs(By) * p1 + abs(Bz) * p2))
+                & (abs(d1) > O3D_A * (abs(Ax) * p0 + abs(Ay) * p1 + abs(Az) * p2))
+                & (abs(d2) > O3D_A * (abs(Dx) * r0 + abs(Dy) * r1 + abs(Dz) * r2))
+                & (abs(d3) > O3D_A * (abs(Cx) * r0 + abs(Cy) * r1 + abs(Cz) * r2)))
     if not sure:
         d0, _ = orient3d_staged((qx, qy, qz), (bx, by, bz), (cx, cy, cz), (dx, dy, dz), O3D_A)
         d1, _ = orient3d_staged((ax, ay, az), (qx, qy, qz), (cx, cy, cz), (dx, dy, dz), O3D_A)
@@ -194,7 +198,26 @@ def _step3(P, S, t, qx, qy, qz):
 
 
 @njit(cache=True, nogil=True)
-def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
+def walk_static(box, Q):
+    """The static orientation bound of the walk's steps (their stage A's,
+    planar.static_bounds and spatial.static_bounds3): the box holds every
+    corner and query of a step, here the box of the mesh's points (``box``:
+    their lowest and highest coordinates, rows 0 and 1, in the frame) and
+    of the queries Q, read as they are.  inf (no static bound) where the
+    box leaves the range those bounds hold in."""
+    d = Q.shape[1]
+    lo, hi = box[0].copy(), box[1].copy()
+    for k in range(Q.shape[0]):
+        for a in range(d):
+            lo[a] = min(lo[a], Q[k, a])
+            hi[a] = max(hi[a], Q[k, a])
+    if d == 2:
+        return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)[0]
+    return static_bounds3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], O3D_A, ISP_A)[0]
+
+
+@njit(cache=True, nogil=True)
+def locate_walk(mesh, Q, lo, hi, out, last, sample, static):
     """Simplex of each query row lo:hi of Q by the visibility walk, in row
     order (sort the rows along a curve first: ``grid_order``), each walk
     starting from the previous answer or, when ``sample`` > 0, from the
@@ -202,20 +225,23 @@ def locate_walk(P, S, N, Q, lo, hi, out, last, sample):
     for queries too sparse for the previous answer to be near); -1
     outside.  ``last[k]`` is the last simplex query k's walk visited (where
     an outside query left the hull).  A walk that exceeds its step budget
-    falls back to the brute force.  P, S and N may be a ``walk_frame``'s:
-    the answers are then its rows (``order`` maps them back).
+    falls back to the brute force.  mesh = (P, S, N), the points, simplices
+    and neighbours, may be a ``walk_frame``'s: the answers are then its
+    rows (``order`` maps them back).  ``static``: walk_static's bound for
+    these queries.
 
     The walk is written out in this loop rather than called: an inlined
     function that returns a tuple per query doubled the time
     (docs/performance.md, "location walk")."""
+    P, S, N = mesh
     if P.shape[1] == 2:
-        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, 2)
+        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, 2)
     else:
-        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, 3)
+        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, 3)
 
 
 @njit(cache=True, inline="always")
-def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
+def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, d):
     """locate_walk's loop, with the dimension ``d`` a constant where it is
     inlined (one walk in the loop, not a branch between two)."""
     budget = 4 * S.shape[0] + 4
@@ -226,7 +252,7 @@ def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, d):
             t = _nearest_start(P, S, sample, qx, qy, qz, t)
         found = -2
         for _ in range(budget):
-            i = _step2(P, S, t, qx, qy) if d == 2 else _step3(P, S, t, qx, qy, qz)
+            i = _step2(P, S, t, qx, qy, static) if d == 2 else _step3(P, S, t, qx, qy, qz, static)
             if i < 0:
                 found = t
                 break

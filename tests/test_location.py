@@ -243,3 +243,37 @@ def test_coherent_queries_on_a_grid_mesh_answer_exactly(dim):
     shuffled[shuffle] = d.find_simplex(qs[shuffle])
     _check(pts, d, qs, shuffled)
     assert np.array_equal(in_order < 0, shuffled < 0)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_walks_static_bound_covers_the_queries_box_as_well_as_the_meshes(dim, rng):
+    """walk_static's bound certifies a step only if every corner and query
+    of it lies in its box: queries beyond the mesh's box widen it."""
+    from lfqt.predicates.planar import ICC_A, CCW_A, static_bounds
+    from lfqt.predicates.spatial import ISP_A, O3D_A, static_bounds3
+    box = np.array([np.zeros(dim), np.ones(dim)])
+    inside, far = rng.random((50, dim)), np.r_[rng.random((49, dim)), [np.full(dim, -7.0)]]
+    widths = [8.0] * dim
+
+    def expected(w):
+        return (static_bounds(*w, CCW_A, ICC_A) if dim == 2 else static_bounds3(*w, O3D_A, ISP_A))[0]
+
+    assert location.walk_static(box, inside) == expected([1.0] * dim)
+    assert location.walk_static(box, far) == expected(widths) > expected([1.0] * dim)
+    assert location.walk_static(box * 1e300, far * 1e300) == np.inf  # overflows: off
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2 ** 31), st.sampled_from([2, 3]), st.sampled_from([2.0 ** -600, 1.0, 2.0 ** 600]))
+def test_queries_on_vertices_and_edges_of_a_scaled_mesh_are_found_exactly(seed, dim, scale):
+    """Queries on the mesh's vertices and edge midpoints make orientations
+    of zero, which no static bound certifies: each answer still holds its
+    query.  Powers of two scale the integer points, so that the midpoints
+    are exact."""
+    rng = np.random.default_rng(seed)
+    pts = np.round(rng.random((200, dim)) * 64) * scale
+    d = _built(pts)
+    s = d.simplices[rng.integers(0, d.nsimplex, 40)]
+    q = np.r_[pts[s[:, 0]], (pts[s[:, 0]] + pts[s[:, 1]]) / 2]
+    for t, x in zip(d.find_simplex(q), q):
+        assert t >= 0 and _contains(pts, d.simplices[t], x)
