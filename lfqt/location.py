@@ -111,8 +111,9 @@ def _step2(P, S, t, qx, qy, static):
     t).  The three orientations are evaluated together, each with q as the
     origin (one set of differences), and certified by ``static``
     (walk_static) or else by stage A's bound (``orient2d_staged``); only an
-    uncertain one is decided again, exactly.  No branch per edge: on a large mesh the walk waits on memory
-    and on mispredicted branches, not on arithmetic.  The edge the walk came
+    uncertain one is decided again, exactly.  No branch per edge: on a
+    large mesh the walk waits on memory and on mispredicted branches, not
+    on arithmetic.  The edge the walk came
     through is never chosen (q is on its other side, or on it), and on a
     Delaunay triangulation any choice among the edges q is beyond ends
     (Edelsbrunner), the farthest one in fewer steps::
@@ -233,17 +234,17 @@ def locate_walk(mesh, Q, lo, hi, out, last, sample, static):
     The walk is written out in this loop rather than called: an inlined
     function that returns a tuple per query doubled the time
     (docs/performance.md, "location walk")."""
-    P, S, N = mesh
-    if P.shape[1] == 2:
-        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, 2)
+    if mesh[0].shape[1] == 2:
+        _walk_rows(mesh, Q, lo, hi, out, last, sample, static, 2)
     else:
-        _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, 3)
+        _walk_rows(mesh, Q, lo, hi, out, last, sample, static, 3)
 
 
 @njit(cache=True, inline="always")
-def _walk_rows(P, S, N, Q, lo, hi, out, last, sample, static, d):
+def _walk_rows(mesh, Q, lo, hi, out, last, sample, static, d):
     """locate_walk's loop, with the dimension ``d`` a constant where it is
     inlined (one walk in the loop, not a branch between two)."""
+    P, S, N = mesh
     budget = 4 * S.shape[0] + 4
     t = 0
     for k in range(lo, hi):

@@ -256,7 +256,8 @@ def test_the_walks_static_bound_covers_the_queries_box_as_well_as_the_meshes(dim
     widths = [8.0] * dim
 
     def expected(w):
-        return (static_bounds(*w, CCW_A, ICC_A) if dim == 2 else static_bounds3(*w, O3D_A, ISP_A))[0]
+        bounds = static_bounds(*w, CCW_A, ICC_A) if dim == 2 else static_bounds3(*w, O3D_A, ISP_A)
+        return bounds[0]
 
     assert location.walk_static(box, inside) == expected([1.0] * dim)
     assert location.walk_static(box, far) == expected(widths) > expected([1.0] * dim)
@@ -264,7 +265,8 @@ def test_the_walks_static_bound_covers_the_queries_box_as_well_as_the_meshes(dim
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.integers(0, 2 ** 31), st.sampled_from([2, 3]), st.sampled_from([2.0 ** -600, 1.0, 2.0 ** 600]))
+@given(st.integers(0, 2 ** 31), st.sampled_from([2, 3]),
+       st.sampled_from([2.0 ** -600, 1.0, 2.0 ** 600]))
 def test_queries_on_vertices_and_edges_of_a_scaled_mesh_are_found_exactly(seed, dim, scale):
     """Queries on the mesh's vertices and edge midpoints make orientations
     of zero, which no static bound certifies: each answer still holds its

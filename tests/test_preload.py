@@ -88,13 +88,13 @@ def test_a_fork_during_the_preload_waits_for_it_and_the_child_works():
 
 def test_a_running_call_holds_the_preload_at_its_next_step_and_it_goes_on_after():
     out = _run("""
-        import os
         import time
         import lfqt
         from lfqt import calls, preload
 
         def three_d():
-            return sum(len(v) for k, v in loaded().items() if k.startswith("lfqt.incremental.tetra"))
+            return sum(len(v) for k, v in loaded().items()
+                       if k.startswith("lfqt.incremental.tetra"))
 
         @calls.entry
         def a_long_call():  # as a triangulation that starts right after the import
