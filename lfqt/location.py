@@ -43,8 +43,8 @@ from numba import njit
 
 from .predicates.expansion import (EPS, cross_exact, exact_diff, expansion_product,
                                    expansion_sum, scale_expansion)
-from .predicates.planar import CCW_A, ICC_A, orient2d_staged, static_bounds
-from .predicates.spatial import ISP_A, O3D_A, orient3d_staged, static_bounds3
+from .predicates.planar import CCW_A, orient2d_staged
+from .predicates.spatial import O3D_A, orient3d_staged, statics, widened
 from .morton import spread_bits
 from .radix import sort_keys
 from .workers import Workers
@@ -201,20 +201,14 @@ def _step3(P, S, t, qx, qy, qz, static):
 @njit(cache=True, nogil=True)
 def walk_static(box, Q):
     """The static orientation bound of the walk's steps (their stage A's,
-    planar.static_bounds and spatial.static_bounds3): the box holds every
-    corner and query of a step, here the box of the mesh's points (``box``:
-    their lowest and highest coordinates, rows 0 and 1, in the frame) and
-    of the queries Q, read as they are.  inf (no static bound) where the
-    box leaves the range those bounds hold in."""
+    predicates.spatial.statics): the box holds every corner and query of a
+    step, here the box of the mesh's points (``box``: their lowest and
+    highest coordinates, rows 0 and 1, in the frame) widened to the queries
+    Q, read as they are.  inf (no static bound) where the box leaves the
+    range those bounds hold in."""
     d = Q.shape[1]
-    lo, hi = box[0].copy(), box[1].copy()
-    for k in range(Q.shape[0]):
-        for a in range(d):
-            lo[a] = min(lo[a], Q[k, a])
-            hi[a] = max(hi[a], Q[k, a])
-    if d == 2:
-        return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)[0]
-    return static_bounds3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], O3D_A, ISP_A)[0]
+    lo, hi = widened(box[0].copy(), box[1].copy(), Q, d)
+    return statics(lo, hi, d)[0]
 
 
 @njit(cache=True, nogil=True)

@@ -30,8 +30,8 @@ from ..clock import cycle_counter
 from ..indexing import bit, borrow, popcount, prefetch, rank, u
 from ..predicates.counters import (CAVITY_CYCLES, CONFLICTS, DUPLICATES, INCIRCLE, LOCATE_CYCLES,
                                    N_INSERT, N_PREDICATE, ORIENT, tally)
-from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged, static_bounds
-from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged, static_bounds3
+from ..predicates.planar import CCW_A, ICC_A, incircle_staged, orient2d_staged
+from ..predicates.spatial import ISP_A, O3D_A, box, insphere_staged, orient3d_staged, statics
 
 INF = -1
 CELLS_PER_POINT = 8  # the cell storage insert_all starts with (it doubles when full)
@@ -58,34 +58,6 @@ def _insphere_pts(a, b, c, p, static):
     """In-circle of p against a, b, c (points as _point's); ``static`` as
     in _orient_pts."""
     return incircle_staged(a[0], a[1], b[0], b[1], c[0], c[1], p[0], p[1], ICC_A, static)
-
-
-@njit(cache=True)
-def box(P, d):
-    """(lowest, highest) coordinate of the points P on each of their d
-    axes (3 entries each; inf and -inf beyond d), in one pass: numpy's
-    reductions over the short axis (``P.min(axis=0)``) took 21 ms each at
-    1M 3D points, this 5 ms for both."""
-    lo = np.full(3, np.inf)
-    hi = np.full(3, -np.inf)
-    for k in range(P.shape[0]):
-        for a in range(d):
-            lo[a] = min(lo[a], P[k, a])
-            hi[a] = max(hi[a], P[k, a])
-    return lo, hi
-
-
-@njit(cache=True)
-def statics(lo, hi, d):
-    """(orient, in-sphere) static filter bounds for calls among points in
-    the box lo, hi (``box``; planar.static_bounds, spatial.static_bounds3):
-    every call of the insertion loop but _inside_facet_circle's, whose
-    helper point leaves the box.  An empty box has none (inf)."""
-    if lo[0] > hi[0]:
-        return np.inf, np.inf
-    if d == 2:
-        return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)
-    return static_bounds3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], O3D_A, ISP_A)
 
 
 @njit(cache=True)

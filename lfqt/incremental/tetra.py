@@ -46,11 +46,12 @@ from numba import njit
 from .. import workspace
 from ..clock import cycle_counter
 from ..indexing import borrow, prefetch, u
-from ..predicates.counters import CONFLICTS, DUPLICATES, INCIRCLE, N_INSERT, N_PREDICATE, ORIENT, tally
-from ..predicates.spatial import ISP_A, O3D_A, insphere_staged, orient3d_staged
+from ..predicates.counters import (CONFLICTS, DUPLICATES, INCIRCLE, N_INSERT, N_PREDICATE, ORIENT,
+                                   tally)
+from ..predicates.spatial import ISP_A, O3D_A, box, insphere_staged, orient3d_staged, statics
 from ..workers import Workers
 from .kernel import (DEAD, INF, WALK_AHEAD, Insertion, _commit, _initial_simplex,
-                     _inside_facet_circle, box, phase_cycles, statics)
+                     _inside_facet_circle, phase_cycles)
 
 CELLS_PER_POINT = 8  # the records insert_all starts with (they double when full)
 MAX_CELLS = 2 ** 29 - 1  # 4 t + i is an int32
@@ -374,7 +375,7 @@ FOREIGN, SMALL_SCRATCH = 1, 2
 Lane = namedtuple("Lane", "state free counts part deferred")
 # The insertion's order, duplicates and filters: perm, hint, pick (the
 # initial simplex's positions in perm), dup_of, and the filters' span and
-# static bounds (kernel.statics).
+# static bounds (predicates.spatial.statics).
 Run = namedtuple("Run", "perm hint pick dup_of span static")
 
 

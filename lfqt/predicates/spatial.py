@@ -20,7 +20,7 @@ from .expansion import (DD_CEIL, DD_FLOOR, EPS, NOT_INT, as_int, cross_exact, dd
                         dd_lift3, dd_scale, dd_sum3, dd_times, exact_diff, expansion_product,
                         expansion_sign, expansion_sum, int_unit, negate, sign_int, two_diff,
                         two_sum)
-from .planar import STATIC_MARGIN, usable_static
+from .planar import CCW_A, ICC_A, STATIC_MARGIN, static_bounds, usable_static
 
 # Shewchuk's stage-1 bounds (his A) of orient3d and insphere (predicates.c,
 # exactinit)
@@ -55,6 +55,38 @@ def static_bounds3(wx, wy, wz, o3d, isp):
     return (usable_static(o3d, o3d * (6.0 * vol) * STATIC_MARGIN),
             usable_static(isp, isp * (24.0 * (wx * wx + wy * wy + wz * wz) * vol)
                           * STATIC_MARGIN))
+
+
+@njit(cache=True)
+def widened(lo, hi, P, d):
+    """lo and hi (at least d entries each) widened, in place, to hold the
+    rows of P on their first d axes; returns them.  One pass: numpy's
+    reductions over the short axis (``P.min(axis=0)``) took 21 ms each at
+    1M 3D points, this 5 ms for both."""
+    for k in range(P.shape[0]):
+        for a in range(d):
+            lo[a] = min(lo[a], P[k, a])
+            hi[a] = max(hi[a], P[k, a])
+    return lo, hi
+
+
+@njit(cache=True)
+def box(P, d):
+    """(lowest, highest) coordinate of the points P on each of their d
+    axes (3 entries each: inf and -inf beyond d, and for no points)."""
+    return widened(np.full(3, np.inf), np.full(3, -np.inf), P, d)
+
+
+@njit(cache=True)
+def statics(lo, hi, d):
+    """(orient, in-circle or in-sphere) static stage-1 bounds for calls
+    whose points all lie in the box lo, hi on d axes (planar.static_bounds,
+    static_bounds3); none (inf) for an empty box."""
+    if lo[0] > hi[0]:
+        return np.inf, np.inf
+    if d == 2:
+        return static_bounds(hi[0] - lo[0], hi[1] - lo[1], CCW_A, ICC_A)
+    return static_bounds3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], O3D_A, ISP_A)
 
 
 @njit(cache=True, inline="always")
