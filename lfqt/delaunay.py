@@ -212,8 +212,6 @@ class Delaunay:
         self.nsimplex = len(self.simplices)
         self.good = np.ones(self.nsimplex, dtype=np.intc)
         self.min_bound, self.max_bound, lifted = extents(self.points)
-        # the box of _mesh's points: the frame's scale is a power of two, exact on them
-        self._mesh_box = np.array([self.min_bound, self.max_bound]) * self._scale
         self.paraboloid_scale, self.paraboloid_shift = self._paraboloid(*lifted)
         self._floor = 2.0 ** ((MIN_ULP_EXP if d == 2 else MIN_ULP_EXP_3D) + 52)
 
@@ -431,7 +429,8 @@ class Delaunay:
             return out, at
         mesh = self._mesh
         jump = jump_sample(len(Q), len(mesh[0]), len(mesh[1]))
-        static = walk_static(self._mesh_box, Q)
+        # the box of the mesh's points in the frame: its scale is a power of two, exact on them
+        static = walk_static(np.array([self.min_bound, self.max_bound]) * self._scale, Q)
         if coherent(Q) and (self._mesh_bytes <= MESH_IN_CACHE or curve_like(Q, CURVE_WINDOW)):
             # the caller's order is already one along space (or the mesh fits in the caches)
             workers.map(chunks, lambda c, lo, hi: locate_walk(mesh, Q, lo, hi, out, at, jump,

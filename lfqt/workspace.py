@@ -17,7 +17,9 @@ mappings, its ``_memory``)::
     this pool         180-194 ms     238           1.92-1.96 s    115 B/point
 
 Each request takes the smallest idle mapping large enough, so that calls on
-the same number of points reuse the same mappings.  Memory is not held for
+the same number of points reuse the same mappings; one much larger than
+the request gives back its pages past it (``OVERSIZE``), for an array that
+outlives the call holds only its own.  Memory is not held for
 long: a mapping idle for ``IDLE_SECONDS`` is unmapped by a timer thread,
 and so is any past ``LIMIT`` idle bytes; ``release()`` unmaps every idle
 mapping now.  A request that finds none large enough unmaps the idle
